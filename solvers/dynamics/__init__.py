@@ -1,0 +1,1 @@
+"""Dynamics models: CasADi-symbolic equations of motion, closed-form STMs, ephemerides."""

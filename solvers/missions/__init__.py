@@ -1,0 +1,1 @@
+"""Built-in missions, one module each; a module defining MISSION is registered."""

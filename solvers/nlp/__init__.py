@@ -1,0 +1,1 @@
+"""NLP back ends: CasADi (IPOPT, SQP) and the papers own solvers written here."""

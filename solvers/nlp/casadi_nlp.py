@@ -1,0 +1,216 @@
+"""CasADi NLP back ends (IPOPT, SQP) behind one call, built once and re-solved warm.
+
+An `NLP` is built from symbolic (x, f, g, p) once per (mission, method, node count) and then
+solved many times with new numeric parameters, bounds and starting points. An iteration
+callback reports progress, records a few iterate snapshots and stops the solver when the
+request is cancelled or past its time limit.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import casadi as ca
+import numpy as np
+
+from ..mission import Cancelled, SolveContext, TimeLimit
+
+BACKENDS = ("ipopt", "sqp")
+SNAPSHOT_ITERATIONS = frozenset({0, 1, 2, 3, 5, 8, 13, 21, 34, 55, 89})
+
+_IPOPT_COMMON = {
+    "ipopt.print_level": 0,
+    "ipopt.sb": "yes",
+    "print_time": False,
+    "ipopt.tol": 1e-10,
+    "ipopt.constr_viol_tol": 1e-9,
+    "ipopt.max_iter": 3000,
+}
+_IPOPT_WARM = {
+    "ipopt.warm_start_init_point": "yes",
+    "ipopt.warm_start_bound_push": 1e-9,
+    "ipopt.warm_start_bound_frac": 1e-9,
+    "ipopt.warm_start_slack_bound_push": 1e-9,
+    "ipopt.warm_start_slack_bound_frac": 1e-9,
+    "ipopt.warm_start_mult_bound_push": 1e-9,
+    "ipopt.mu_init": 1e-7,
+}
+_SQP = {
+    "print_time": False,
+    "print_header": False,
+    "print_iteration": False,
+    "print_status": False,
+    "qpsol": "qrqp",
+    "qpsol_options": {"print_iter": False, "print_header": False, "print_info": False,
+                      "error_on_fail": False},
+    # The exact Hessian with CasADi's convexification stalls on these problems; a BFGS
+    # Hessian converges (slower than IPOPT: a teaching point, not the default).
+    "hessian_approximation": "limited-memory",
+    "lbfgs_memory": 30,
+    "max_iter": 500,
+    "tol_pr": 1e-9,
+    "tol_du": 1e-7,
+    "error_on_fail": False,
+}
+
+
+@dataclass
+class NLPResult:
+    """Primal/dual solution of one NLP solve, with the back end's own verdict."""
+
+    x: np.ndarray
+    f: float
+    g: np.ndarray
+    lam_x: np.ndarray
+    lam_g: np.ndarray
+    iterations: int
+    return_status: str
+    success: bool
+    max_violation: float
+    history: list[tuple[int, np.ndarray]] = field(default_factory=list)
+
+
+class _IterationHook(ca.Callback):
+    """CasADi iteration callback forwarding each iterate to the active solve's handler."""
+
+    def __init__(self, name: str, nx: int, ng: int, np_: int) -> None:
+        ca.Callback.__init__(self)
+        self._sizes = {"x": nx, "lam_x": nx, "g": ng, "lam_g": ng, "lam_p": np_, "f": 1}
+        self.handler: Callable[[int, np.ndarray], bool] | None = None
+        self.count = 0
+        self.construct(name, {})
+
+    def get_n_in(self) -> int:
+        return ca.nlpsol_n_out()
+
+    def get_n_out(self) -> int:
+        return 1
+
+    def get_name_in(self, i: int) -> str:
+        return ca.nlpsol_out(i)
+
+    def get_name_out(self, i: int) -> str:
+        return "ret"
+
+    def get_sparsity_in(self, i: int) -> ca.Sparsity:
+        n = self._sizes.get(ca.nlpsol_out(i), 0)
+        return ca.Sparsity.dense(n, 1) if n else ca.Sparsity(0, 0)
+
+    def eval(self, arg: list) -> list:
+        stop = False
+        if self.handler is not None:
+            stop = self.handler(self.count, np.asarray(arg[0]).ravel())
+        self.count += 1
+        return [1 if stop else 0]
+
+
+class NLP:
+    """A parametric NLP  min f(x, p)  s.t.  lbg <= g(x, p) <= ubg,  lbx <= x <= ubx."""
+
+    def __init__(
+        self, x: ca.SX, f: ca.SX, g: ca.SX, p: ca.SX, backend: str = "ipopt", name: str = "nlp"
+    ) -> None:
+        if backend not in BACKENDS:
+            raise ValueError(f"unknown NLP back end '{backend}' (back ends: {', '.join(BACKENDS)})")
+        self.backend = backend
+        self.n_x = int(x.numel())
+        self.n_g = int(g.numel())
+        self.n_p = int(p.numel())
+        self._problem = {"x": x, "f": f, "g": g, "p": p}
+        self._name = name
+        self._hook = _IterationHook(f"{name}_hook", self.n_x, self.n_g, self.n_p)
+        self._solvers: dict[bool, ca.Function] = {}
+        self._lock = threading.Lock()
+
+    def _solver(self, warm: bool) -> ca.Function:
+        key = warm and self.backend == "ipopt"
+        if key not in self._solvers:
+            if self.backend == "ipopt":
+                opts = dict(_IPOPT_COMMON, **(_IPOPT_WARM if key else {}))
+                opts["iteration_callback"] = self._hook
+                self._solvers[key] = ca.nlpsol(self._name, "ipopt", self._problem, opts)
+            else:
+                opts = dict(_SQP, iteration_callback=self._hook)
+                self._solvers[key] = ca.nlpsol(self._name, "sqpmethod", self._problem, opts)
+        return self._solvers[key]
+
+    def solve(
+        self,
+        x0: np.ndarray,
+        p: np.ndarray,
+        lbx: np.ndarray,
+        ubx: np.ndarray,
+        lbg: np.ndarray,
+        ubg: np.ndarray,
+        lam_x0: np.ndarray | None = None,
+        lam_g0: np.ndarray | None = None,
+        ctx: SolveContext | None = None,
+    ) -> NLPResult:
+        """Solve once; raises `Cancelled`/`TimeLimit` when the context asks to stop."""
+        warm = lam_x0 is not None and lam_g0 is not None
+        history: list[tuple[int, np.ndarray]] = []
+        stop_reason: list[Exception] = []
+
+        def on_iteration(k: int, x: np.ndarray) -> bool:
+            if k in SNAPSHOT_ITERATIONS:
+                history.append((k, x.copy()))
+            if ctx is None:
+                return False
+            try:
+                ctx.report(k, f"iteration {k}")
+            except (Cancelled, TimeLimit) as exc:
+                stop_reason.append(exc)
+                return True
+            return False
+
+        args = {"x0": x0, "p": p, "lbx": lbx, "ubx": ubx, "lbg": lbg, "ubg": ubg}
+        if warm:
+            args.update(lam_x0=lam_x0, lam_g0=lam_g0)
+        with self._lock:
+            solver = self._solver(warm)
+            self._hook.handler = on_iteration
+            self._hook.count = 0
+            try:
+                out = solver(**args)
+            finally:
+                self._hook.handler = None
+            stats = solver.stats()
+        if stop_reason:
+            raise stop_reason[0]
+        x = np.asarray(out["x"]).ravel()
+        g = np.asarray(out["g"]).ravel()
+        violation = max(
+            float(np.max(np.maximum(lbg - g, 0.0), initial=0.0)),
+            float(np.max(np.maximum(g - ubg, 0.0), initial=0.0)),
+        )
+        return NLPResult(
+            x=x,
+            f=float(out["f"]),
+            g=g,
+            lam_x=np.asarray(out["lam_x"]).ravel(),
+            lam_g=np.asarray(out["lam_g"]).ravel(),
+            iterations=int(stats.get("iter_count", len(history))),
+            return_status=str(stats.get("return_status", "")),
+            success=bool(stats.get("success", False)),
+            max_violation=violation,
+            history=history,
+        )
+
+
+def status_of(result: NLPResult) -> tuple[str, str]:
+    """Map a back end's return status to the Solution vocabulary and a human message."""
+    rs = result.return_status
+    if result.success or rs in ("Solve_Succeeded", "Solved_To_Acceptable_Level"):
+        return "optimal", f"converged in {result.iterations} iterations"
+    if "Infeasib" in rs or rs in ("Restoration_Failed",):
+        return "infeasible", (
+            f"the solver found no feasible trajectory ({rs}, constraint violation "
+            f"{result.max_violation:.2g}): the request may be impossible, or the guess too poor"
+        )
+    if "Maximum_Iterations" in rs or "Maximum_Iter" in rs:
+        return "iteration-limit", f"stopped at the iteration limit ({result.iterations})"
+    if "Time" in rs:
+        return "time-limit", "stopped at the time limit"
+    return "failed", f"the NLP solver stopped without converging ({rs or 'unknown status'})"

@@ -1,0 +1,1 @@
+"""Transcriptions of optimal control problems into NLPs, one method per module."""

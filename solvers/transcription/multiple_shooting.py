@@ -1,0 +1,89 @@
+"""Direct multiple shooting (paper 004): tau in [0, 1], t = T tau, T a parameter.
+
+[0, 1] is divided into N equal intervals; the control is linear between the node values
+P_i; node states S_i are NLP variables; each interval is integrated from S_i with fixed-step
+RK4 (the running cost rides along as an extra state, the paper's Mayer form) and continuity
+x(S_i, tau_i+1) = S_i+1 is imposed.
+"""
+
+from __future__ import annotations
+
+import casadi as ca
+import numpy as np
+
+from ..ocp import OCP
+from .direct import DirectTranscription
+
+DEFAULT_SUBSTEPS = 8
+
+
+class MultipleShooting(DirectTranscription):
+    kind = "multiple-shooting"
+
+    def __init__(
+        self, ocp: OCP, n_intervals: int, backend: str = "ipopt", substeps: int = DEFAULT_SUBSTEPS
+    ) -> None:
+        self.substeps = int(substeps)
+        self._interval = _interval_function(ocp, int(n_intervals), self.substeps)
+        super().__init__(ocp, n_intervals, backend)
+
+    def _dynamics(self, X: ca.SX, U: ca.SX, T: ca.SX, p: ca.SX) -> tuple[ca.SX, ca.SX]:
+        N, ocp = self.N, self.ocp
+        ends, _, q = self._interval.map(N)(
+            X[:, :-1], U[:, :-1], U[:, 1:], ca.repmat(T, 1, N), ca.repmat(p, 1, N)
+        )
+        gaps = (ends - X[:, 1:]) / ca.repmat(ca.DM(ocp.x_scale), 1, N)
+        return ca.vec(gaps), ca.sum2(q)
+
+    def dense(
+        self, T: float, X: np.ndarray, U: np.ndarray, p: np.ndarray, per_interval: int
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        N, M = self.N, self.substeps
+        _, traj, _ = self._interval.map(N)(
+            X[:-1].T, U[:-1].T, U[1:].T, np.full((1, N), T), np.tile(p[:, None], (1, N))
+        )
+        traj = np.asarray(traj)  # nx x (N * M): substep states after the start of each interval
+        xs, us, ts = [], [], []
+        s = np.arange(M) / M
+        for k in range(N):
+            states = np.vstack([X[k], traj[:, k * M : (k + 1) * M - 1].T])
+            xs.append(states)
+            us.append(np.outer(1 - s, U[k]) + np.outer(s, U[k + 1]))
+            ts.append((k + s) * T / N)
+        xs.append(X[-1:])
+        us.append(U[-1:])
+        ts.append([T])
+        return np.concatenate(ts), np.vstack(xs), np.vstack(us)
+
+
+def _interval_function(ocp: OCP, N: int, M: int) -> ca.Function:
+    """RK4 over one interval of length 1/N in tau with a linear control: returns the end
+    state, the M substep states (for drawing) and the running-cost increment."""
+    fn = ocp.functions()
+    x = ca.SX.sym("x", ocp.nx)
+    u0 = ca.SX.sym("u0", ocp.nu)
+    u1 = ca.SX.sym("u1", ocp.nu)
+    T = ca.SX.sym("T")
+    p = ca.SX.sym("p", ocp.n_params)
+    dtau = 1.0 / (N * M)
+
+    def rhs(xq: ca.SX, s: float) -> ca.SX:
+        xs = xq[: ocp.nx]
+        u = u0 + (u1 - u0) * s
+        dx = T * fn.f(xs, u, p)
+        dq = T * fn.lagrange(xs, u, p) if fn.lagrange is not None else ca.SX(0)
+        return ca.vertcat(dx, dq)
+
+    xq = ca.vertcat(x, 0)
+    states = []
+    for j in range(M):
+        s0 = j / M
+        k1 = rhs(xq, s0)
+        k2 = rhs(xq + dtau / 2 * k1, s0 + 0.5 / M)
+        k3 = rhs(xq + dtau / 2 * k2, s0 + 0.5 / M)
+        k4 = rhs(xq + dtau * k3, s0 + 1.0 / M)
+        xq = xq + dtau / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+        states.append(xq[: ocp.nx])
+    return ca.Function(
+        "interval", [x, u0, u1, T, p], [xq[: ocp.nx], ca.horzcat(*states), xq[ocp.nx]]
+    )

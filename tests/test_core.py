@@ -1,0 +1,154 @@
+"""Core contracts: parameter validation, the Solution record, the registry, verification and
+the generic direct transcriptions on problems with known analytic optima."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import casadi as ca
+import numpy as np
+import pytest
+
+import solvers
+from solvers.mission import SolveContext
+from solvers.ocp import OCP, Bounds, Guess
+from solvers.problem import Param, validate_values
+from solvers.solution import Quantity, Solution
+from solvers.transcription.hermite_simpson import HermiteSimpson
+from solvers.transcription.multiple_shooting import MultipleShooting
+from solvers.verify import repropagate
+
+PARAMS = (
+    Param("mass", "mass", "kg", 10.0, 1.0, 100.0, 1.0),
+    Param("kind", "kind", "", 0, 0, 2, 1, options=("a", "b", "c")),
+)
+
+
+def test_validation_fills_defaults_and_accepts_in_range():
+    assert validate_values(PARAMS, {"mass": 50}) == {"mass": 50.0, "kind": 0.0}
+
+
+@pytest.mark.parametrize(
+    ("values", "fragments"),
+    [
+        ({"speed": 1.0}, ["unknown parameter 'speed'", "mass"]),
+        ({"mass": float("nan")}, ["'mass'", "nan", "[1, 100] kg"]),
+        ({"mass": float("inf")}, ["'mass'", "inf", "not finite"]),
+        ({"mass": 101.0}, ["'mass'", "101", "[1, 100] kg"]),
+        ({"mass": "heavy"}, ["'mass'", "heavy", "not a number"]),
+        ({"kind": 1.5}, ["'kind'", "whole number"]),
+        ({"kind": 3}, ["'kind'", "0=a | 1=b | 2=c"]),
+    ],
+)
+def test_validation_messages_name_key_value_and_range(values, fragments):
+    with pytest.raises(ValueError) as err:
+        validate_values(PARAMS, values)
+    for fragment in fragments:
+        assert fragment in str(err.value)
+
+
+def test_solution_json_is_strict_and_maps_nan_to_null():
+    sol = Solution(
+        mission="m", method="x", nodes=3, status="failed", message="no",
+        cost=Quantity(float("nan"), "cost", "kg"), node_t=np.array([0.0, np.nan]),
+    )
+    data = json.loads(sol.to_json())
+    assert data["cost"]["value"] is None
+    assert data["node_t"] == [0.0, None]
+
+
+def test_registry_lists_lunar_landing_and_rejects_unknown():
+    keys = [m.key for m in solvers.list_missions()]
+    assert "lunar-landing" in keys
+    with pytest.raises(ValueError, match="unknown mission 'mars'"):
+        solvers.get_mission("mars")
+
+
+def test_every_mission_declares_a_consistent_contract():
+    for mission in solvers.list_missions():
+        assert mission.methods, mission.key
+        for method in mission.methods:
+            lo, default, hi = method.nodes
+            assert lo <= default <= hi
+            vals, m, n = mission.validate(None, method.key)
+            assert n == default and m.key == method.key
+            assert set(vals) == {p.key for p in mission.all_params(method.key)}
+
+
+def test_repropagate_matches_harmonic_oscillator():
+    x, u, p = ca.SX.sym("x", 2), ca.SX.sym("u", 1), ca.SX.sym("p", 1)
+    f = ca.Function("f", [x, u, p], [ca.vertcat(x[1], -p[0] ** 2 * x[0] + u[0])])
+    w = 2.0
+    t, X = repropagate(f, np.array([w]), np.array([1.0, 0.0]), lambda t, x: np.zeros(1),
+                       np.linspace(0, 3, 4))
+    assert np.allclose(X[:, 0], np.cos(w * t), atol=1e-9)
+    assert np.allclose(X[:, 1], -w * np.sin(w * t), atol=1e-9)
+
+
+def _double_integrator(min_time: bool) -> OCP:
+    """x'' = u from rest at 0 to rest at 1: min-energy (T = 1: u = 6 - 12 t, J = 6) or
+    min-time with |u| <= 1 (T = 2, bang-bang)."""
+    def bounds(p):
+        ulim = 1.0 if min_time else 50.0
+        return Bounds(np.array([-5.0, -5.0]), np.array([5.0, 5.0]), np.array([-ulim]),
+                      np.array([ulim]), 0.1, 10.0)
+
+    return OCP(
+        states=("x", "v"), controls=("u",), n_params=1,
+        dynamics=lambda x, u, p: ca.vertcat(x[1], u[0]),
+        initial_state=lambda p: ca.vertcat(0, 0),
+        terminal=lambda xf, p: ca.vertcat(xf[0] - 1, xf[1]),
+        bounds=bounds,
+        guess=lambda p: Guess(np.array([1.0, 0.0]), np.array([0.0]), 1.5),
+        x_scale=np.ones(2), u_scale=np.ones(1), T_scale=1.0, terminal_scale=np.ones(2),
+        mayer=(lambda xf, T, p: T) if min_time else None,
+        lagrange=None if min_time else (lambda x, u, p: 0.5 * u[0] ** 2),
+        fixed_final_time=None if min_time else (lambda p: 1.0),
+    )
+
+
+@pytest.mark.parametrize("cls", [HermiteSimpson, MultipleShooting])
+def test_min_energy_double_integrator_analytic_optimum(cls):
+    res = cls(_double_integrator(False), 10).solve(np.zeros(1))
+    assert res.status == "optimal"
+    # Analytic: u(t) = 6 - 12 t, J = 1/2 * integral of u^2 = 6 (linear u is exact in both).
+    assert res.cost == pytest.approx(6.0, rel=1e-8)
+    assert np.allclose(res.U[:, 0], 6 - 12 * res.t_nodes, atol=1e-6)
+
+
+@pytest.mark.parametrize("cls", [HermiteSimpson, MultipleShooting])
+def test_min_time_double_integrator_and_warm_restart(cls):
+    ocp = _double_integrator(True)
+    res = cls(ocp, 20).solve(np.zeros(1))
+    # Analytic: bang-bang, T = 2. A control linear between nodes cannot switch instantly,
+    # so the discrete optimum lies slightly above 2 and approaches it as the mesh refines.
+    assert res.status == "optimal"
+    assert 2.0 - 1e-9 <= res.T <= 2.0 * (1 + 1 / 20)
+    again = cls(ocp, 20).solve(np.zeros(1), warm=res.warm)
+    assert again.iterations <= 3
+    assert again.T == pytest.approx(res.T, rel=1e-9)
+    finer = cls(ocp, 40).solve(np.zeros(1), warm=res.warm)  # re-interpolated warm start
+    assert finer.status == "optimal"
+    assert 2.0 - 1e-9 <= finer.T < res.T
+
+
+def test_cancelled_context_stops_the_nlp():
+    import threading
+
+    from solvers.mission import Cancelled
+
+    event = threading.Event()
+    event.set()
+    with pytest.raises(Cancelled):
+        HermiteSimpson(_double_integrator(True), 20).solve(
+            np.zeros(1), ctx=SolveContext(cancel=event)
+        )
+
+
+def test_time_limit_reports_status_not_exception():
+    mission = solvers.get_mission("lunar-landing")
+    sol = mission.solve(method="hermite-simpson", nodes=150, time_limit=1e-4)
+    assert sol.status == "time-limit"
+    assert "time limit" in sol.message
+    assert math.isnan(sol.cost.value)
