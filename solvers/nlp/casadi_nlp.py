@@ -16,8 +16,9 @@ import casadi as ca
 import numpy as np
 
 from ..mission import Cancelled, SolveContext, TimeLimit
+from .exterior_penalty import penalty_functions, solve_exterior_penalty
 
-BACKENDS = ("ipopt", "sqp")
+BACKENDS = ("ipopt", "sqp", "penalty-bfgs")
 SNAPSHOT_ITERATIONS = frozenset({0, 1, 2, 3, 5, 8, 13, 21, 34, 55, 89})
 
 _IPOPT_COMMON = {
@@ -122,6 +123,7 @@ class NLP:
         self._name = name
         self._hook = _IterationHook(f"{name}_hook", self.n_x, self.n_g, self.n_p)
         self._solvers: dict[bool, ca.Function] = {}
+        self._penalty_parts: ca.Function | None = None
         self._lock = threading.Lock()
 
     def _solver(self, warm: bool) -> ca.Function:
@@ -165,6 +167,8 @@ class NLP:
                 return True
             return False
 
+        if self.backend == "penalty-bfgs":
+            return self._solve_penalty(x0, p, lbx, ubx, lbg, ubg, ctx)
         args = {"x0": x0, "p": p, "lbx": lbx, "ubx": ubx, "lbg": lbg, "ubg": ubg}
         if warm:
             args.update(lam_x0=lam_x0, lam_g0=lam_g0)
@@ -199,6 +203,29 @@ class NLP:
         )
 
 
+    def _solve_penalty(self, x0, p, lbx, ubx, lbg, ubg, ctx) -> NLPResult:
+        """The exterior penalty method (paper 000, eq. 12) on the same NLP."""
+        with self._lock:
+            if self._penalty_parts is None:
+                pr = self._problem
+                self._penalty_parts = penalty_functions(pr["x"], pr["f"], pr["g"], pr["p"])
+            parts = self._penalty_parts
+        z, f, g, iterations, converged, history = solve_exterior_penalty(
+            parts, np.asarray(x0, float), np.asarray(p, float), np.asarray(lbx, float),
+            np.asarray(ubx, float), np.asarray(lbg, float), np.asarray(ubg, float), ctx,
+        )
+        violation = max(
+            float(np.max(np.maximum(lbg - g, 0.0), initial=0.0)),
+            float(np.max(np.maximum(g - ubg, 0.0), initial=0.0)),
+        )
+        return NLPResult(
+            x=z, f=f, g=g, lam_x=np.zeros_like(z), lam_g=np.zeros_like(g),
+            iterations=iterations,
+            return_status="Solve_Succeeded" if converged else "Penalty_Not_Converged",
+            success=converged, max_violation=violation, history=history,
+        )
+
+
 def status_of(result: NLPResult) -> tuple[str, str]:
     """Map a back end's return status to the Solution vocabulary and a human message."""
     rs = result.return_status
@@ -211,6 +238,11 @@ def status_of(result: NLPResult) -> tuple[str, str]:
         )
     if "Maximum_Iterations" in rs or "Maximum_Iter" in rs:
         return "iteration-limit", f"stopped at the iteration limit ({result.iterations})"
+    if rs == "Penalty_Not_Converged":
+        return "iteration-limit", (
+            f"the exterior penalty method stopped at its largest penalty factor with constraint "
+            f"violation {result.max_violation:.2g}"
+        )
     if "Time" in rs:
         return "time-limit", "stopped at the time limit"
     return "failed", f"the NLP solver stopped without converging ({rs or 'unknown status'})"

@@ -1,0 +1,1 @@
+"""Indirect (Pontryagin) solutions used as independent checks of the direct methods."""
