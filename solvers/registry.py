@@ -4,9 +4,12 @@ from __future__ import annotations
 
 import importlib
 import pkgutil
+import warnings
 from functools import cache
 
 from .mission import Mission
+
+_IMPORT_ERRORS: dict[str, str] = {}
 
 
 @cache
@@ -15,7 +18,12 @@ def _missions() -> dict[str, Mission]:
 
     found: dict[str, Mission] = {}
     for info in sorted(pkgutil.iter_modules(package.__path__), key=lambda i: i.name):
-        module = importlib.import_module(f"{package.__name__}.{info.name}")
+        try:
+            module = importlib.import_module(f"{package.__name__}.{info.name}")
+        except Exception as exc:  # noqa: BLE001 - one broken mission must not take down all
+            _IMPORT_ERRORS[info.name] = f"{type(exc).__name__}: {exc}"
+            warnings.warn(f"mission module '{info.name}' failed to import: {exc}", stacklevel=2)
+            continue
         mission = getattr(module, "MISSION", None)
         if isinstance(mission, Mission):
             found[mission.key] = mission
@@ -31,6 +39,12 @@ MISSION_ORDER = (
     "apollo-reentry",
     "asteroid-rendezvous",
 )
+
+
+def import_errors() -> dict[str, str]:
+    """Mission modules that failed to import, with the error (empty when all is well)."""
+    _missions()
+    return dict(_IMPORT_ERRORS)
 
 
 def list_missions() -> list[Mission]:

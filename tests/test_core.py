@@ -59,6 +59,9 @@ def test_solution_json_is_strict_and_maps_nan_to_null():
 
 
 def test_registry_lists_lunar_landing_and_rejects_unknown():
+    from solvers.registry import import_errors
+
+    assert import_errors() == {}
     keys = [m.key for m in solvers.list_missions()]
     assert "lunar-landing" in keys
     with pytest.raises(ValueError, match="unknown mission 'mars'"):

@@ -1,0 +1,160 @@
+"""Headless screenshots of the explorer: the app in-process on a free port, Debian chromium
+driven by Playwright (software WebGL), a PNG once the solved scene has settled.
+
+    python -m explorer.capture --mission lunar-landing --out shot.png [--width 1280 --height 800]
+    python -m explorer.capture --all --out DIR
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import shutil
+import socket
+import tempfile
+import time
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+
+from playwright.sync_api import Page, sync_playwright
+
+from .app import ClientView, ExplorerApp
+
+CHROMIUM = "/usr/bin/chromium"
+LAUNCH_ARGS = [
+    "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+    "--disable-background-networking", "--disable-component-update", "--disable-sync",
+]
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+@dataclass
+class Browser:
+    """A running app with one chromium page connected to it."""
+
+    app: ExplorerApp
+    page: Page
+    view: ClientView
+    first_frame_s: float
+
+
+@contextlib.contextmanager
+def open_browser(mission: str | None = None, method: str | None = None,
+                 nodes: int | None = None, width: int = 1280, height: int = 800,
+                 timeout: float = 120.0, render: bool = True) -> Iterator[Browser]:
+    """Start the app and chromium, wait for the first solve and (with `render`) for its
+    settled 3D frame; GUI-only tests skip that wait for the software WebGL start-up."""
+    if not Path(CHROMIUM).exists():
+        raise FileNotFoundError(f"{CHROMIUM} not found (apt-get install chromium)")
+    started = time.perf_counter()
+    app = ExplorerApp("127.0.0.1", free_port(), mission, method, nodes)
+    profile = tempfile.mkdtemp(prefix="explorer-chromium-")
+    try:
+        with sync_playwright() as pw:
+            context = pw.chromium.launch_persistent_context(
+                profile, executable_path=CHROMIUM, headless=True, args=LAUNCH_ARGS,
+                viewport={"width": width, "height": height})
+            try:
+                page = context.pages[0] if context.pages else context.new_page()
+                page.goto(app.url)
+                view = app.wait_for_view(timeout)
+                wait_solved(view, timeout)
+                if render:
+                    close_webgl_toast(page)
+                    settle(page, timeout)
+                yield Browser(app, page, view, time.perf_counter() - started)
+            finally:
+                context.close()
+    finally:
+        app.stop()
+        shutil.rmtree(profile, ignore_errors=True)
+
+
+def wait_solved(view: ClientView, timeout: float) -> None:
+    """Wait until the session has answered its newest request and something was drawn."""
+    deadline = time.monotonic() + timeout
+    if not view.session.wait_idle(timeout):
+        raise TimeoutError(f"the solve did not finish within {timeout:g} s")
+    while view.drawn == 0 and view.session.last_good is not None:
+        if time.monotonic() > deadline:
+            raise TimeoutError("the solution was not drawn")
+        time.sleep(0.05)
+
+
+def close_webgl_toast(page: Page, timeout: float = 15.0) -> None:
+    """Dismiss the "Software WebGL rendering detected" notification if it shows up."""
+    toast = page.locator(".mantine-Notification-root", has_text="Software WebGL")
+    with contextlib.suppress(Exception):
+        toast.first.wait_for(timeout=1e3 * timeout)
+        toast.first.get_by_role("button").click()
+        toast.first.wait_for(state="detached", timeout=5e3)
+
+
+def settle(page: Page, timeout: float, interval: float = 0.5) -> bytes:
+    """Screenshot until two consecutive frames are identical (the client draws on demand)."""
+    deadline = time.monotonic() + timeout
+    previous = page.screenshot()
+    while time.monotonic() < deadline:
+        time.sleep(interval)
+        shot = page.screenshot()
+        if shot == previous:
+            return shot
+        previous = shot
+    return previous
+
+
+def capture(out: Path, mission: str | None = None, method: str | None = None,
+            nodes: int | None = None, width: int = 1280, height: int = 800) -> dict[str, float]:
+    """Write one PNG of the solved mission; returns timings in seconds."""
+    with open_browser(mission, method, nodes, width, height) as b:
+        t0 = time.perf_counter()
+        out.parent.mkdir(parents=True, exist_ok=True)
+        out.write_bytes(b.page.screenshot())
+        return {"first_frame_s": b.first_frame_s, "screenshot_s": time.perf_counter() - t0,
+                "status": b.view.session.latest.status if b.view.session.latest else "none"}
+
+
+def capture_all(out_dir: Path, width: int = 1280, height: int = 800) -> list[Path]:
+    """One PNG per mission, switching missions in one browser session."""
+    out_dir.mkdir(parents=True, exist_ok=True)
+    written = []
+    with open_browser(width=width, height=height) as b:
+        for mission in b.app.missions:
+            if b.view.session.mission is not mission:
+                b.view.session.select_mission(mission)
+                wait_solved(b.view, 120.0)
+                settle(b.page, 60.0)
+            path = out_dir / f"{mission.key}.png"
+            path.write_bytes(b.page.screenshot())
+            written.append(path)
+    return written
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(prog="python -m explorer.capture", description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--mission")
+    parser.add_argument("--method")
+    parser.add_argument("--nodes", type=int)
+    parser.add_argument("--all", action="store_true", help="one PNG per mission into --out DIR")
+    parser.add_argument("--out", required=True, type=Path)
+    parser.add_argument("--width", type=int, default=1280)
+    parser.add_argument("--height", type=int, default=800)
+    args = parser.parse_args(argv)
+    if args.all:
+        for path in capture_all(args.out, args.width, args.height):
+            print(path)
+        return
+    timings = capture(args.out, args.mission, args.method, args.nodes, args.width, args.height)
+    print(f"{args.out}: status {timings['status']}, first frame {timings['first_frame_s']:.1f} s, "
+          f"screenshot {timings['screenshot_s']:.2f} s")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,235 @@
+"""One browser's state (mission, method, values, last solution) and its solve worker.
+
+The session knows nothing about viser: views subscribe as `SessionListener`s, so one
+session can drive one browser tab (the default) or several (a future `--shared` mode), and
+tests can drive it without a browser. Requests are solved on one worker thread per session;
+the newest request wins: submitting cancels the running solve through its `cancel` event
+and replaces any request still waiting.
+"""
+
+from __future__ import annotations
+
+import itertools
+import threading
+import time
+import traceback
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Protocol
+
+from solvers.mission import Mission
+from solvers.problem import Preset
+from solvers.solution import Solution
+
+
+@dataclass(frozen=True)
+class Request:
+    """A snapshot of what to solve; `cancel` is set when a newer request supersedes it."""
+
+    seq: int
+    mission: Mission
+    method: str
+    nodes: int
+    backend: str | None
+    values: dict[str, float]
+    cancel: threading.Event = field(default_factory=threading.Event, compare=False)
+
+
+class SessionListener(Protocol):
+    """What a view hears from its session; every call comes from the worker thread,
+    except `on_config`, which comes from whoever changed the configuration."""
+
+    def on_config(self, session: Session) -> None:
+        """Mission, method or preset changed: rebuild the controls."""
+
+    def on_progress(self, request: Request, iteration: int, message: str) -> None:
+        """The running solve reached `iteration`."""
+
+    def on_result(self, request: Request, solution: Solution) -> None:
+        """A solve finished (any status); `session.last_good` is already updated."""
+
+    def on_check(self, request: Request, solution: Solution) -> None:
+        """The re-propagation check of the solution just delivered has run."""
+
+    def on_error(self, request: Request, message: str) -> None:
+        """The request was rejected (bad input): nothing was solved."""
+
+
+class Session:
+    """Mission/method/node/value state of one view plus a newest-request-wins solver.
+
+    `auto=True` submits a solve after every change (the live explorer); with `auto=False`
+    call `submit()` yourself. `last_good` is the newest optimal solution: the warm start of
+    the next solve and what the view keeps on screen when a request fails.
+    """
+
+    def __init__(self, mission: Mission, *, method: str | None = None,
+                 nodes: int | None = None, auto: bool = True) -> None:
+        self.auto = auto
+        self.listeners: list[SessionListener] = []
+        self.last_good: Solution | None = None
+        self.latest: Solution | None = None
+        self.error: str | None = None
+        self.preset: str | None = None
+        self._seq = itertools.count(1)
+        self._cond = threading.Condition()
+        self._pending: Request | None = None
+        self._running: Request | None = None
+        self._newest = 0
+        self._delivered = 0
+        self._closed = False
+        self._configure(mission, method, nodes, {})
+        self._worker = threading.Thread(target=self._work, name="explorer-solve", daemon=True)
+        self._worker.start()
+
+    # ---- configuration ----------------------------------------------------------------
+    def _configure(self, mission: Mission, method: str | None, nodes: int | None,
+                   values: Mapping[str, float]) -> None:
+        m = mission.method(method)
+        self.mission = mission
+        self.method = m.key
+        self.nodes = m.nodes[1] if nodes is None else int(nodes)
+        self.backend = m.backends[0] if m.backends else None
+        known = mission.defaults(m.key)
+        self.values = known | {k: float(v) for k, v in values.items() if k in known}
+
+    def _emit(self, event: str, *args: object) -> None:
+        """Call every listener; a failing view is logged and never stops the worker."""
+        for listener in list(self.listeners):
+            try:
+                getattr(listener, event)(*args)
+            except Exception:  # noqa: BLE001 - one broken view must not break the session
+                traceback.print_exc()
+
+    def _changed(self, config: bool) -> None:
+        if config:
+            self._emit("on_config", self)
+        if self.auto:
+            self.submit()
+
+    def select_mission(self, mission: Mission) -> None:
+        """Switch mission: its first method, default nodes and values."""
+        self.preset = None
+        self.last_good = self.latest = None
+        self._configure(mission, None, None, {})
+        self._changed(config=True)
+
+    def select_method(self, key: str) -> None:
+        """Switch method, keeping the mission's values (the new method's own params reset)."""
+        self.preset = None
+        shared = {p.key: self.values[p.key] for p in self.mission.params}
+        self._configure(self.mission, key, None, shared)
+        self._changed(config=True)
+
+    def apply_preset(self, preset: Preset) -> None:
+        """Defaults overridden by the preset's values (and its method/node count)."""
+        self.preset = preset.name
+        self._configure(self.mission, preset.method or self.method, preset.nodes,
+                        dict(preset.values))
+        self._changed(config=True)
+
+    def set_value(self, key: str, value: float) -> None:
+        if key not in self.values:
+            raise KeyError(f"'{key}' is not a parameter of {self.mission.key}/{self.method}")
+        self.values[key] = float(value)
+        self._changed(config=False)
+
+    def set_nodes(self, nodes: int) -> None:
+        self.nodes = int(nodes)
+        self._changed(config=False)
+
+    def set_backend(self, backend: str) -> None:
+        self.backend = backend
+        self._changed(config=False)
+
+    # ---- solving ----------------------------------------------------------------------
+    def submit(self) -> Request:
+        """Queue a solve of the current state; cancels the running and waiting ones."""
+        request = Request(next(self._seq), self.mission, self.method, self.nodes, self.backend,
+                          dict(self.values))
+        with self._cond:
+            if self._running is not None:
+                self._running.cancel.set()
+            if self._pending is not None:
+                self._pending.cancel.set()
+            self._pending = request
+            self._newest = request.seq
+            self._cond.notify_all()
+        return request
+
+    @property
+    def busy(self) -> bool:
+        with self._cond:
+            return self._pending is not None or self._running is not None
+
+    def wait_idle(self, timeout: float | None = None) -> bool:
+        """Block until the newest request has been delivered (result, check or error)."""
+        deadline = None if timeout is None else time.monotonic() + timeout
+        with self._cond:
+            while self._delivered < self._newest and not self._closed:
+                left = None if deadline is None else deadline - time.monotonic()
+                if left is not None and left <= 0:
+                    return False
+                self._cond.wait(left)
+            return True
+
+    def close(self) -> None:
+        """Stop the worker (cancelling any solve); the session cannot be used afterwards."""
+        with self._cond:
+            self._closed = True
+            for request in (self._running, self._pending):
+                if request is not None:
+                    request.cancel.set()
+            self._cond.notify_all()
+
+    def _stale(self, request: Request) -> bool:
+        return request.cancel.is_set() or self._closed
+
+    def _work(self) -> None:
+        while True:
+            with self._cond:
+                while self._pending is None and not self._closed:
+                    self._cond.wait()
+                if self._closed:
+                    return
+                request, self._pending = self._pending, None
+                self._running = request
+            try:
+                self._run(request)
+            finally:
+                with self._cond:
+                    self._running = None
+                    if not self._stale(request):
+                        self._delivered = max(self._delivered, request.seq)
+                    self._cond.notify_all()
+
+    def _run(self, request: Request) -> None:
+        def progress(iteration: int, message: str) -> None:
+            if not self._stale(request):
+                self._emit("on_progress", request, iteration, message)
+
+        try:
+            sol = request.mission.solve(
+                request.values, request.method, request.nodes, backend=request.backend,
+                warm=self.last_good, progress=progress, cancel=request.cancel, verify=False,
+            )
+        except ValueError as exc:
+            if not self._stale(request):
+                self.error = str(exc)
+                self._emit("on_error", request, str(exc))
+            return
+        if self._stale(request):
+            return
+        self.error = None
+        self.latest = sol
+        if sol.ok:
+            self.last_good = sol
+        self._emit("on_result", request, sol)
+        if not (sol.ok and sol.has_trajectory) or self._stale(request):
+            return
+        try:
+            sol.run_check()
+        except Exception as exc:  # noqa: BLE001 - a failed check is reported, never fatal
+            sol.message += f" (re-propagation check failed: {exc})"
+        if not self._stale(request):
+            self._emit("on_check", request, sol)
