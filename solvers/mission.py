@@ -79,6 +79,8 @@ class Mission(ABC):
     methods: tuple[Method, ...] = ()
     published: tuple[Published, ...] = ()
     presets: tuple[Preset, ...] = ()
+    # (caption, LaTeX) pairs for the mission's About panel: the model in the paper's notation.
+    equations: tuple[tuple[str, str], ...] = ()
 
     def method(self, key: str | None) -> Method:
         if key is None:

@@ -67,9 +67,11 @@ class Method:
     source: str
     summary: str
     nodes: tuple[int, int, int]
+    # `equations`: (caption, LaTeX) pairs shown in the method's About panel (as MathML).
     nodes_label: str = "nodes"
     params: tuple[Param, ...] = ()
     backends: tuple[str, ...] = ()
+    equations: tuple[tuple[str, str], ...] = ()
 
 
 @dataclass(frozen=True)

@@ -69,6 +69,16 @@ class Marker:
 
 
 @dataclass
+class ColorBy:
+    """A scalar along the dense trajectory (one value per `Solution.t` sample) to colour the
+    path by, e.g. heating rate or thrust magnitude; the view picks the colour map."""
+
+    name: str
+    unit: str
+    values: np.ndarray
+
+
+@dataclass
 class Scene:
     """Everything a 3D view needs besides the trajectory itself."""
 
@@ -114,6 +124,7 @@ class Solution:
     node_positions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     thrust: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     scene: Scene | None = None
+    color_by: ColorBy | None = None
     plots: list[PlotSeries] = field(default_factory=list)
     stats: dict[str, float] = field(default_factory=dict)
     history: list[dict[str, Any]] = field(default_factory=list)

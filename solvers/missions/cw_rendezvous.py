@@ -192,6 +192,13 @@ class CWRendezvous(Mission):
     published = PUBLISHED
     cost_label = "burn time"
     cost_unit = "s"
+    equations = (
+        ("Clohessy–Wiltshire equations in the target orbital frame (paper 000, eq. 1)",
+         r"\ddot x - 2\omega\dot y = a u_x,\quad \ddot y + 2\omega\dot x - 3\omega^2 y = "
+         r"a u_y,\quad \ddot z + \omega^2 z = a u_z,\quad \lVert u\rVert \le 1"),
+        ("Cost: total burn time for a fixed transfer time",
+         r"J = \sum_{\text{burns}} T_b,\qquad \sum_{\text{arcs}} T_i = T"),
+    )
     presets = (
         Preset("Paper 000 case", {}, note="Coplanar, 15 km behind, 600 s, a = 0.5 m/s²."),
         Preset("Strong engine: arrive early and wait", {"accel": 2.0}, method="free-structure"),

@@ -64,6 +64,15 @@ METHODS = (
         "nodes, 4th-order Adams-Bashforth-Moulton with RK4 start, augmented Lagrangian "
         "(generalised multiplier method) with a BFGS inner solver; exact gradients by AD.",
         nodes=(4, 30, 120), nodes_label="segments",
+        equations=(
+            ("Integral transformation: ϖ = -ω as independent variable",
+             r"\frac{d\varpi}{dt} = \frac{(F/m)\cos\psi + 2v\omega}{r},\qquad "
+             r"\frac{dx}{d\varpi} = \frac{dx/dt}{d\varpi/dt},\qquad "
+             r"\frac{dt}{d\varpi} = \left(\frac{d\varpi}{dt}\right)^{-1}"),
+            ("Generalised multiplier method (augmented Lagrangian)",
+             r"L(\psi) = J - \lambda^T h + \frac{\sigma}{2}\lVert h\rVert^2,\qquad "
+             r"\lambda \leftarrow \lambda - \sigma h"),
+        ),
         params=(
             Param("sigma0", "initial penalty factor σ", "", 20.0, 0.001, 1000.0, 0.001,
                   group="Method", help="Paper: 20. Smaller σ widens the region of convergence."),
@@ -76,12 +85,17 @@ METHODS = (
         "Time-domain collocation with free final time: cubic Hermite state, linear control, "
         "midpoint defects; the NLP is built once and re-solved warm.",
         nodes=(5, 30, 200), nodes_label="intervals", backends=("ipopt", "sqp"),
+        equations=(("Hermite–Simpson defect",
+                    r"x_{k+1} - x_k - \frac{h}{6}\left(f_k + 4 f_{k+\frac12} + f_{k+1}\right)"
+                    r" = 0"),),
     ),
     Method(
         "multiple-shooting", "Direct multiple shooting (paper 004)", "paper 004",
         "τ ∈ [0, 1] with t = Tτ, T a parameter; control linear between nodes; RK4 on each "
         "interval; continuity of the node states.",
         nodes=(5, 30, 200), nodes_label="intervals", backends=("ipopt", "sqp"),
+        equations=(("Continuity of the shooting intervals (paper 004)",
+                    r"x\left(S_i, \tau_{i+1}\right) - S_{i+1} = 0,\qquad t = T\tau"),),
     ),
 )
 
@@ -174,6 +188,15 @@ class LunarLanding(Mission):
     published = PUBLISHED
     cost_label = "fuel"
     cost_unit = "kg"
+    equations = (
+        ("Equations of motion (paper 002, eq. 1)",
+         r"\dot r = v,\quad \dot v = \frac{F}{m}\sin\psi - \frac{\mu}{r^2} + r\omega^2,"
+         r"\quad \dot\omega = -\frac{(F/m)\cos\psi + 2v\omega}{r},\quad \dot\theta = \omega,"
+         r"\quad \dot m = -\frac{F}{I_{sp} g_0}"),
+        ("Cost (eq. 2) and terminal conditions",
+         r"J = m(0) - m(t_f) = \frac{F t_f}{I_{sp} g_0},\qquad r(t_f) = R,\ v(t_f) = 0,\ "
+         r"\omega(t_f) = 0"),
+    )
     presets = (
         Preset("Paper 002 case", {}, note="The published case: tf = 398.039 s, fuel 270.775 kg."),
         Preset("From the 100 × 15 km orbit (vis-viva ω0)", {"omega_source": 1}),
