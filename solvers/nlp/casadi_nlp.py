@@ -111,7 +111,13 @@ class NLP:
     """A parametric NLP  min f(x, p)  s.t.  lbg <= g(x, p) <= ubg,  lbx <= x <= ubx."""
 
     def __init__(
-        self, x: ca.SX, f: ca.SX, g: ca.SX, p: ca.SX, backend: str = "ipopt", name: str = "nlp"
+        self,
+        x: ca.SX | ca.MX,
+        f: ca.SX | ca.MX,
+        g: ca.SX | ca.MX,
+        p: ca.SX | ca.MX,
+        backend: str = "ipopt",
+        name: str = "nlp",
     ) -> None:
         if backend not in BACKENDS:
             raise ValueError(f"unknown NLP back end '{backend}' (back ends: {', '.join(BACKENDS)})")
