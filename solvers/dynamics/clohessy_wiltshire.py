@@ -110,37 +110,27 @@ def nonlinear_relative_miss(
     """Relative state (this frame) at the end when the chaser flies the same control under
     full two-body gravity while the target keeps its circular orbit of this radius.
 
-    The control acceleration (given in the rotating target frame) is rotated into the
-    inertial frame at each instant; integration by solve_ivp (DOP853, rtol 1e-10), restarted
-    at every breakpoint where the control has kinks.
+    `control(t, x)` gives the acceleration in this frame; the propagation itself is
+    `two_body.propagate_relative` in its LVLH axes (x radial, y along-track), so the
+    components are permuted on the way in and out.
     """
-    from scipy.integrate import solve_ivp
+    from .two_body import propagate_relative
 
-    omega = np.array([0.0, 0.0, w])
+    r_t0 = np.array([radius, 0.0, 0.0])
+    v_t0 = np.array([0.0, radius * w, 0.0])
+    _, rel, _ = propagate_relative(
+        r_t0, v_t0, _to_lvlh(np.asarray(rel0, float)),
+        lambda t: _to_lvlh(np.asarray(control(t, None), float)), breakpoints, mu,
+    )
+    return _from_lvlh(rel[-1])
 
-    def to_inertial(t: float, rel: np.ndarray) -> np.ndarray:
-        ex, ey, ez = (a[0] for a in frame_axes(np.array([w * t])))
-        R = np.column_stack([ex, ey, ez])
-        r_t, v_t = radius * ey, radius * w * (-ex)
-        return np.concatenate([r_t + R @ rel[:3], v_t + R @ (rel[3:] + np.cross(omega, rel[:3]))])
 
-    def rhs(t: float, s: np.ndarray) -> np.ndarray:
-        ex, ey, ez = (a[0] for a in frame_axes(np.array([w * t])))
-        rel_x = np.zeros(6)
-        acc = np.column_stack([ex, ey, ez]) @ np.asarray(control(t, rel_x), float)
-        r = s[:3]
-        return np.concatenate([s[3:], -mu * r / np.linalg.norm(r) ** 3 + acc])
+def _to_lvlh(v: np.ndarray) -> np.ndarray:
+    """(x = -along, y = radial, z) -> (radial, along, z), for 3- or 6-vectors."""
+    out = v.reshape(-1, 3)[:, [1, 0, 2]] * np.array([1.0, -1.0, 1.0])
+    return out.ravel()
 
-    state = to_inertial(float(breakpoints[0]), np.asarray(rel0, float))
-    for t0, t1 in zip(breakpoints[:-1], breakpoints[1:], strict=True):
-        if t1 <= t0:
-            continue
-        sol = solve_ivp(rhs, (t0, t1), state, method="DOP853", rtol=1e-10, atol=1e-6)
-        state = sol.y[:, -1]
-    t_end = float(breakpoints[-1])
-    ex, ey, ez = (a[0] for a in frame_axes(np.array([w * t_end])))
-    R = np.column_stack([ex, ey, ez])
-    r_t, v_t = radius * ey, radius * w * (-ex)
-    rel_r = R.T @ (state[:3] - r_t)
-    rel_v = R.T @ (state[3:] - v_t) - np.cross(omega, rel_r)
-    return np.concatenate([rel_r, rel_v])
+
+def _from_lvlh(v: np.ndarray) -> np.ndarray:
+    out = v.reshape(-1, 3)[:, [1, 0, 2]] * np.array([-1.0, 1.0, 1.0])
+    return out.ravel()
