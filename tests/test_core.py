@@ -155,3 +155,20 @@ def test_time_limit_reports_status_not_exception():
     assert sol.status == "time-limit"
     assert "time limit" in sol.message
     assert math.isnan(sol.cost.value)
+
+
+def test_validation_accepts_exactly_the_documented_range():
+    from hypothesis import given
+    from hypothesis import strategies as st
+
+    @given(st.floats(allow_nan=True, allow_infinity=True, width=64))
+    def check(value):
+        inside = math.isfinite(value) and 1.0 <= value <= 100.0
+        try:
+            out = validate_values(PARAMS, {"mass": value})
+        except ValueError as err:
+            assert not inside and "'mass'" in str(err)
+        else:
+            assert inside and out["mass"] == value
+
+    check()
