@@ -139,9 +139,15 @@ class OCPResult:
     max_violation: float
     history: list[tuple[int, np.ndarray, np.ndarray]]
     warm: WarmStart
+    control_interpolation: str = "linear"
 
     def control(self, t: float, x: np.ndarray | None = None) -> np.ndarray:
-        """Piecewise-linear control between nodes, as both transcriptions define it."""
+        """The control between nodes exactly as the transcription defines it: piecewise
+        linear, or the polynomial through all nodes (pseudospectral methods)."""
+        if self.control_interpolation == "polynomial":
+            from .transcription.lgl import interpolate
+
+            return interpolate(self.t_nodes, self.U, np.array([t]))[0]
         return np.array([np.interp(t, self.t_nodes, self.U[:, j]) for j in range(self.U.shape[1])])
 
 

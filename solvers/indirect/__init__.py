@@ -1,1 +1,1 @@
-"""Indirect (Pontryagin) solutions used as independent checks of the direct methods."""
+"""Indirect (Pontryagin) solutions used as independent checks of the direct transcriptions."""

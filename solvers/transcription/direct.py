@@ -21,13 +21,20 @@ class DirectTranscription(ABC):
     """Nodes at tau_k = k/N on t = T tau; states and controls at every node."""
 
     kind: str = "direct"
+    # How the control is defined between nodes: "linear" or "polynomial" (through all nodes).
+    control_interpolation: str = "linear"
+
+    @staticmethod
+    def mesh(n_intervals: int) -> np.ndarray:
+        """Node positions tau in [0, 1]: equally spaced unless a method says otherwise."""
+        return np.linspace(0.0, 1.0, n_intervals + 1)
 
     def __init__(self, ocp: OCP, n_intervals: int, backend: str = "ipopt") -> None:
         self.ocp = ocp
         self.N = int(n_intervals)
         self.fn = ocp.functions()
         nx, nu, N = ocp.nx, ocp.nu, self.N
-        self.tau = np.linspace(0.0, 1.0, N + 1)
+        self.tau = self.mesh(N)
         self.free_T = ocp.fixed_final_time is None
         Xs = ca.SX.sym("X", nx, N + 1)
         Us = ca.SX.sym("U", nu, N + 1)
@@ -170,6 +177,7 @@ class DirectTranscription(ABC):
             max_violation=res.max_violation,
             history=history,
             warm=WarmStart(self.kind, self.N, self.tau, X, U, T, res.x, res.lam_x, res.lam_g),
+            control_interpolation=self.control_interpolation,
         )
 
 
