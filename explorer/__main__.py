@@ -1,4 +1,6 @@
-"""`python -m explorer [--host 127.0.0.1] [--port 8080] [--mission KEY]`: serve the app."""
+"""`python -m explorer [--host 127.0.0.1] [--port 8080] [--mission KEY] [--shared]`: serve the
+app. Each browser tab has its own session unless `--shared` (one session mirrored to every
+tab: the teacher drives, the room watches)."""
 
 from __future__ import annotations
 
@@ -6,22 +8,32 @@ import argparse
 import time
 
 from .app import ExplorerApp
+from .session import DEFAULT_TIME_LIMIT
 
 
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(prog="python -m explorer", description=__doc__)
     parser.add_argument("--host", default="127.0.0.1",
-                        help="address to bind (default 127.0.0.1: this machine only)")
+                        help="address to bind (default 127.0.0.1: this machine only; "
+                             "0.0.0.0 lets a classroom's laptops connect)")
     parser.add_argument("--port", type=int, default=8080)
     parser.add_argument("--mission", help="mission key shown first (see `python -m solvers list`)")
     parser.add_argument("--method", help="method key of that mission shown first")
     parser.add_argument("--nodes", type=int, help="node count of that method")
+    parser.add_argument("--shared", action="store_true",
+                        help="one session shared by every tab instead of one per tab")
+    parser.add_argument("--time-limit", type=float, default=DEFAULT_TIME_LIMIT,
+                        help=f"seconds before a solve is stopped (default {DEFAULT_TIME_LIMIT:g}; "
+                             "0: no limit; also settable in the GUI)")
     args = parser.parse_args(argv)
     try:
-        app = ExplorerApp(args.host, args.port, args.mission, args.method, args.nodes)
+        app = ExplorerApp(args.host, args.port, args.mission, args.method, args.nodes,
+                          shared=args.shared, time_limit=args.time_limit or None)
     except ValueError as exc:
         parser.error(str(exc))
-    print(f"Trajectory explorer: open {app.url} in a browser (Ctrl-C stops)", flush=True)
+    mode = "one shared session" if args.shared else "one session per tab"
+    print(f"Trajectory explorer ({mode}): open {app.url} in a browser (Ctrl-C stops)",
+          flush=True)
     try:
         while True:
             time.sleep(3600)

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import json
 import shutil
 import socket
 import tempfile
@@ -17,10 +18,13 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
-from playwright.sync_api import Page, sync_playwright
+import numpy as np
+from playwright.sync_api import BrowserContext, Page, sync_playwright
 
-from .app import ClientView, ExplorerApp
+from .app import ExplorerApp, View
+from .session import DEFAULT_TIME_LIMIT
 
+CAPTURE_TIME_LIMIT = 120.0  # s: a screenshot waits for the solution, however slow
 CHROMIUM = "/usr/bin/chromium"
 LAUNCH_ARGS = [
     "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
@@ -40,20 +44,15 @@ class Browser:
 
     app: ExplorerApp
     page: Page
-    view: ClientView
+    view: View
     first_frame_s: float
 
 
 @contextlib.contextmanager
-def open_browser(mission: str | None = None, method: str | None = None,
-                 nodes: int | None = None, width: int = 1280, height: int = 800,
-                 timeout: float = 120.0, render: bool = True) -> Iterator[Browser]:
-    """Start the app and chromium, wait for the first solve and (with `render`) for its
-    settled 3D frame; GUI-only tests skip that wait for the software WebGL start-up."""
+def chromium(width: int = 1280, height: int = 800) -> Iterator[BrowserContext]:
+    """A headless Debian chromium context (fresh profile, removed afterwards)."""
     if not Path(CHROMIUM).exists():
         raise FileNotFoundError(f"{CHROMIUM} not found (apt-get install chromium)")
-    started = time.perf_counter()
-    app = ExplorerApp("127.0.0.1", free_port(), mission, method, nodes)
     profile = tempfile.mkdtemp(prefix="explorer-chromium-")
     try:
         with sync_playwright() as pw:
@@ -61,22 +60,59 @@ def open_browser(mission: str | None = None, method: str | None = None,
                 profile, executable_path=CHROMIUM, headless=True, args=LAUNCH_ARGS,
                 viewport={"width": width, "height": height})
             try:
-                page = context.pages[0] if context.pages else context.new_page()
-                page.goto(app.url)
-                view = app.wait_for_view(timeout)
-                wait_solved(view, timeout)
-                if render:
-                    close_webgl_toast(page)
-                    settle(page, timeout)
-                yield Browser(app, page, view, time.perf_counter() - started)
+                yield context
             finally:
                 context.close()
     finally:
-        app.stop()
         shutil.rmtree(profile, ignore_errors=True)
 
 
-def wait_solved(view: ClientView, timeout: float) -> None:
+def open_tab(app: ExplorerApp, context: BrowserContext, timeout: float = 120.0,
+             page: Page | None = None) -> tuple[Page, View]:
+    """Open the app in a new tab (or `page`); returns it with the view it connected to
+    (in shared mode, the shared view) once that view has answered its first request."""
+    with app._lock:
+        before = set(app.views)
+    page = page or context.new_page()
+    page.goto(app.url)
+    deadline = time.monotonic() + timeout
+    while True:
+        with app._lock:
+            new = [cid for cid in app.views if cid not in before]
+        if new:
+            view = app.views[new[0]]
+            break
+        if time.monotonic() > deadline:
+            raise TimeoutError(f"the tab did not connect within {timeout:g} s")
+        time.sleep(0.05)
+    wait_solved(view, timeout)
+    return page, view
+
+
+@contextlib.contextmanager
+def open_browser(mission: str | None = None, method: str | None = None,
+                 nodes: int | None = None, width: int = 1280, height: int = 800,
+                 timeout: float = 120.0, render: bool = True,
+                 shared: bool = False, time_limit: float | None = DEFAULT_TIME_LIMIT
+                 ) -> Iterator[Browser]:
+    """Start the app and chromium, wait for the first solve and (with `render`) for its
+    settled 3D frame; GUI-only tests skip that wait for the software WebGL start-up."""
+    started = time.perf_counter()
+    app = ExplorerApp("127.0.0.1", free_port(), mission, method, nodes, shared=shared,
+                      time_limit=time_limit)
+    try:
+        with chromium(width, height) as context:
+            page, view = open_tab(app, context, timeout, page=context.pages[0] if
+                                  context.pages else None)
+            if render:
+                close_webgl_toast(page)
+                settle(page, timeout)
+            yield Browser(app, page, view, time.perf_counter() - started)
+    finally:
+        app.stop()
+
+
+def wait_solved(view: View, timeout: float) -> None:
     """Wait until the session has answered its newest request and something was drawn."""
     deadline = time.monotonic() + timeout
     if not view.session.wait_idle(timeout):
@@ -110,21 +146,33 @@ def settle(page: Page, timeout: float, interval: float = 0.5) -> bytes:
 
 
 def capture(out: Path, mission: str | None = None, method: str | None = None,
-            nodes: int | None = None, width: int = 1280, height: int = 800) -> dict[str, float]:
-    """Write one PNG of the solved mission; returns timings in seconds."""
-    with open_browser(mission, method, nodes, width, height) as b:
+            nodes: int | None = None, width: int = 1280, height: int = 800) -> dict:
+    """Write one PNG of the solved mission; returns timings (s), status and drawn colours."""
+    with open_browser(mission, method, nodes, width, height,
+                      time_limit=CAPTURE_TIME_LIMIT) as b:
         t0 = time.perf_counter()
         out.parent.mkdir(parents=True, exist_ok=True)
         out.write_bytes(b.page.screenshot())
         return {"first_frame_s": b.first_frame_s, "screenshot_s": time.perf_counter() - t0,
-                "status": b.view.session.latest.status if b.view.session.latest else "none"}
+                **_shot_record(b.view)}
+
+
+def _shot_record(view) -> dict:
+    """Status of the drawn solution and the sRGB colours its trajectory was drawn in (so a
+    test can find them in the picture)."""
+    latest, g = view.session.latest, view.geometry
+    colors = np.unique(g.segment_colors[:, 0], axis=0) if g is not None else []
+    return {"status": latest.status if latest else "none",
+            "colors": [list(map(int, c)) for c in colors]}
 
 
 def capture_all(out_dir: Path, width: int = 1280, height: int = 800) -> list[Path]:
-    """One PNG per mission, switching missions in one browser session."""
+    """One PNG per mission (default preset), switching missions in one browser session;
+    DIR/shots.json records each one's status and the sRGB colours its trajectory was
+    drawn in (so a test can find them in the picture)."""
     out_dir.mkdir(parents=True, exist_ok=True)
-    written = []
-    with open_browser(width=width, height=height) as b:
+    written, manifest = [], {}
+    with open_browser(width=width, height=height, time_limit=CAPTURE_TIME_LIMIT) as b:
         for mission in b.app.missions:
             if b.view.session.mission is not mission:
                 b.view.session.select_mission(mission)
@@ -133,6 +181,8 @@ def capture_all(out_dir: Path, width: int = 1280, height: int = 800) -> list[Pat
             path = out_dir / f"{mission.key}.png"
             path.write_bytes(b.page.screenshot())
             written.append(path)
+            manifest[mission.key] = _shot_record(b.view)
+    (out_dir / "shots.json").write_text(json.dumps(manifest, indent=1))
     return written
 
 

@@ -7,6 +7,7 @@ option's index.
 
 from __future__ import annotations
 
+import contextlib
 import math
 from collections.abc import Callable, Sequence
 from typing import Any
@@ -68,8 +69,9 @@ class Controls:
     changes (`rebuild`). `inputs` maps param keys (and "nodes") to their GUI handles."""
 
     def __init__(self, gui: viser.GuiApi, session: Session, missions: Sequence[Mission],
-                 order: float = 10.0) -> None:
+                 order: float = 10.0, container: Any = None) -> None:
         self.gui = gui
+        self.container = container  # e.g. a tab; None: the panel's root
         self.session = session
         self.missions = {m.title: m for m in missions}
         self.order = order
@@ -83,12 +85,13 @@ class Controls:
         self._containers.clear()
         self.inputs.clear()
         s = self.session
-        with self._folder("Problem"):
-            self._problem_controls(s)
-        for group, params in group_params(s.mission.all_params(s.method)).items():
-            with self._folder(group):
-                for p in params:
-                    self.inputs[p.key] = self._param_control(p, s.values[p.key])
+        with self.container if self.container is not None else contextlib.nullcontext():
+            with self._folder("Problem"):
+                self._problem_controls(s)
+            for group, params in group_params(s.mission.all_params(s.method)).items():
+                with self._folder(group):
+                    for p in params:
+                        self.inputs[p.key] = self._param_control(p, s.values[p.key])
 
     def _folder(self, label: str) -> viser.GuiFolderHandle:
         folder = self.gui.add_folder(label, order=self.order + len(self._containers))

@@ -1,9 +1,12 @@
 """Plot panel from `Solution.plots`: one small subplot per series against time, NLP nodes
-marked, in one plotly figure (one message per update, whatever the number of series)."""
+marked, in one plotly figure (one message per update, whatever the number of series); a
+comparison overlays several solutions' series in their colours; `set_time_marker` moves a
+vertical line through every subplot during the animation."""
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
 import plotly.graph_objects as go
@@ -13,6 +16,9 @@ from solvers.solution import PlotSeries
 
 GROUP_COLORS = {"state": "#00c8ff", "control": "#ff8c00"}
 OTHER_COLOR = "#b0e060"
+MARKER_COLOR = {True: "#ffe14d", False: "#c06000"}  # time marker on dark / light
+
+Overlay = tuple[str, tuple[int, int, int], Sequence[PlotSeries]]  # name, colour, series
 
 
 def figure_aspect(n_series: int, panel_aspect: float) -> float:
@@ -28,28 +34,69 @@ def grid(n_series: int) -> tuple[int, int]:
     return rows, max(1, math.ceil(n_series / rows))
 
 
-def make_figure(series: list[PlotSeries], dim: bool = False) -> go.Figure:
-    """Subplots of `series` (dense line + node markers); `dim` greys a stale result."""
-    rows, columns = grid(len(series))
-    titles = [f"{s.title} [{s.unit}]" if s.unit else s.title for s in series]
+def _rgb(c: tuple[int, int, int]) -> str:
+    return f"rgb({c[0]},{c[1]},{c[2]})"
+
+
+def make_figure(series: Sequence[PlotSeries], dim: bool = False, dark: bool = True,
+                overlays: Sequence[Overlay] = ()) -> go.Figure:
+    """Subplots of `series` (dense line + node markers); `dim` greys a stale result;
+    `overlays` (a comparison) draw other solutions' series of the same titles in their own
+    colours, with a legend."""
+    titles_src = list(series) or (list(overlays[0][2]) if overlays else [])
+    rows, columns = grid(len(titles_src))
+    titles = [f"{s.title} [{s.unit}]" if s.unit else s.title for s in titles_src]
     fig = make_subplots(rows=rows, cols=columns, subplot_titles=titles or None,
                         horizontal_spacing=0.3 / columns, vertical_spacing=0.5 / rows)
-    for i, s in enumerate(series):
-        row, col = divmod(i, columns)
+    where = {s.title: divmod(i, columns) for i, s in enumerate(titles_src)}
+    node_color = "#f5f5f5" if dark else "#303030"
+    for s in series:
+        row, col = where[s.title]
         color = "#777777" if dim else GROUP_COLORS.get(s.group, OTHER_COLOR)
         fig.add_trace(go.Scatter(x=np.asarray(s.t), y=np.asarray(s.y), mode="lines",
                                  line={"color": color, "width": 2}, name=s.title,
-                                 hoverinfo="x+y"), row=row + 1, col=col + 1)
+                                 showlegend=False, hoverinfo="x+y"), row=row + 1, col=col + 1)
         if s.t_nodes is not None and s.y_nodes is not None:
             fig.add_trace(go.Scatter(x=np.asarray(s.t_nodes), y=np.asarray(s.y_nodes),
-                                     mode="markers", name=f"{s.title} nodes",
-                                     marker={"color": "#f5f5f5", "size": 3}, hoverinfo="x+y"),
+                                     mode="markers", name=f"{s.title} nodes", showlegend=False,
+                                     marker={"color": node_color, "size": 3}, hoverinfo="x+y"),
                           row=row + 1, col=col + 1)
-        if i + columns >= len(series):
+    for name, rgb, overlay in overlays:
+        first = True
+        for s in overlay:
+            if s.title not in where:
+                continue
+            row, col = where[s.title]
+            fig.add_trace(go.Scatter(x=np.asarray(s.t), y=np.asarray(s.y), mode="lines",
+                                     line={"color": _rgb(rgb), "width": 2}, name=name,
+                                     legendgroup=name, showlegend=first, hoverinfo="x+y+name"),
+                          row=row + 1, col=col + 1)
+            first = False
+    for i in range(len(titles_src)):
+        row, col = divmod(i, columns)
+        if i + columns >= len(titles_src):
             fig.update_xaxes(title_text="t [s]", title_standoff=2, row=row + 1, col=col + 1)
     fig.update_layout(
-        template="plotly_dark", showlegend=False, margin={"l": 40, "r": 8, "t": 22, "b": 30},
-        font={"size": 10}, paper_bgcolor="rgba(0,0,0,0)", plot_bgcolor="#15171c",
+        template="plotly_dark" if dark else "plotly_white", showlegend=bool(overlays),
+        legend={"orientation": "h", "y": -0.18, "x": 0.0, "font": {"size": 10}},
+        margin={"l": 40, "r": 8, "t": 22, "b": 30 if not overlays else 50},
+        font={"size": 10}, paper_bgcolor="rgba(0,0,0,0)",
+        plot_bgcolor="#15171c" if dark else "#fafafa",
     )
     fig.update_annotations(font_size=11)
+    return fig
+
+
+def set_time_marker(fig: go.Figure, n_series: int, t: float | None,
+                    dark: bool = True) -> go.Figure:
+    """Put a vertical line at time `t` in each of the first `n_series` subplots (None
+    removes them); only the layout's shapes change, the traces stay."""
+    shapes = []
+    if t is not None:
+        for i in range(n_series):
+            suffix = "" if i == 0 else str(i + 1)
+            shapes.append({"type": "line", "xref": f"x{suffix}", "yref": f"y{suffix} domain",
+                           "x0": t, "x1": t, "y0": 0.0, "y1": 1.0,
+                           "line": {"color": MARKER_COLOR[dark], "width": 1.5}})
+    fig.layout.shapes = shapes
     return fig

@@ -1,5 +1,7 @@
 """Draw any `Solution` in the 3D view: bodies, reference curves, markers, the trajectory
-(burn and coast arcs in different colours), the NLP nodes and thrust arrows.
+(burn and coast arcs in different colours, or coloured by `Solution.color_by`), the NLP nodes
+and thrust arrows; plus what the live view layers on top: a failed attempt in a warning
+colour, a method comparison, the solver's iterates (ghosts) and the animated vehicle.
 
 `build_geometry` is pure numpy (tested without a browser); `SceneView` sends it to one
 client's scene. Everything is drawn in the scene's display unit (metres x
@@ -8,19 +10,35 @@ client's scene. Everything is drawn in the scene's display unit (metres x
 
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 import viser
+from plotly.colors import sample_colorscale
 
 from solvers.solution import Solution
+
+from .animation import Pose
 
 BURN = (255, 140, 0)
 COAST = (0, 200, 255)
 NODE = (245, 245, 245)
+NODE_LIGHT = (40, 40, 40)  # nodes on the light theme's sky
 ARROW = (255, 60, 200)
+WARNING = (255, 45, 45)  # a failed/infeasible attempt drawn over the last good trajectory
 DIM_TO = np.array([90, 90, 90])
+COLORSCALE = "Plasma"
+COLORSCALE_RANGE = (0.25, 1.0)  # skip Plasma's dark-blue end: it vanishes on a dark sky
+# Comparison overlays: distinct from each other and from the warning red.
+PALETTE = ((255, 200, 0), (0, 200, 255), (150, 240, 80), (240, 90, 220), (255, 120, 70),
+           (170, 140, 255))
+GHOST = np.array([185, 205, 255])  # iterates fade from the background towards this
+ASSETS = Path(__file__).resolve().parent.parent / "assets"
+VEHICLE_FRACTION = 0.06  # vehicle length as a fraction of the trajectory extent
+BACKGROUNDS = {True: 8, False: 236}  # dark / light sky grey level
 FOV = math.radians(50.0)
 ARROW_FRACTION = 0.08  # thrust arrow length as a fraction of the trajectory extent
 ELEVATION = 0.06  # how far above the trajectory's plane the camera looks from
@@ -67,6 +85,33 @@ class Geometry:
     extent: float = 1.0
     points: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))  # trajectory
     scene_up: np.ndarray = field(default_factory=lambda: np.array([0.0, 0.0, 1.0]))
+    colorbar: ColorBar | None = None
+
+
+@dataclass
+class ColorBar:
+    """What the path colours mean when it is coloured by value."""
+
+    name: str
+    unit: str
+    lo: float
+    hi: float
+
+
+def colormap(values: np.ndarray, lo: float, hi: float) -> np.ndarray:
+    """(N, 3) uint8 sRGB colours of `values` on `COLORSCALE` over [lo, hi]."""
+    a, b = COLORSCALE_RANGE
+    span = hi - lo if hi > lo else 1.0
+    frac = a + (b - a) * np.clip((np.asarray(values, float) - lo) / span, 0.0, 1.0)
+    rgb = sample_colorscale(COLORSCALE, list(frac), colortype="tuple")
+    return np.round(255.0 * np.asarray(rgb, float)).astype(np.uint8).reshape(-1, 3)
+
+
+def colorbar_css() -> str:
+    """CSS linear-gradient of the colour map (for the legend)."""
+    stops = colormap(np.linspace(0.0, 1.0, 9), 0.0, 1.0)
+    return "linear-gradient(to right, " + ", ".join(
+        f"rgb({r},{g},{b_}) {100 * i / 8:.0f}%" for i, (r, g, b_) in enumerate(stops)) + ")"
 
 
 def arc_kinds(t: np.ndarray, arcs: list[tuple[float, float, str]]) -> list[str]:
@@ -101,6 +146,16 @@ def build_geometry(sol: Solution, dim: bool = False) -> Geometry:
     segments = polyline_segments(pos) if len(pos) > 1 else np.zeros((0, 2, 3))
     kinds = arc_kinds(np.asarray(sol.t, float), sol.arcs) if len(pos) > 1 else []
     colors = np.array([BURN if k == "burn" else COAST for k in kinds], float).reshape(-1, 3)
+    colorbar = None
+    by = sol.color_by
+    if by is not None and len(by.values) == len(pos) and len(pos) > 1:
+        v = np.asarray(by.values, float)
+        finite = v[np.isfinite(v)]
+        if len(finite):
+            colorbar = ColorBar(by.name, by.unit, float(finite.min()), float(finite.max()))
+            mid = 0.5 * (v[:-1] + v[1:])
+            colors = colormap(np.nan_to_num(mid, nan=colorbar.lo), colorbar.lo,
+                              colorbar.hi).astype(float)
     if dim:
         colors = 0.35 * colors + 0.65 * DIM_TO
     seg_colors = np.repeat(colors[:, None, :], 2, axis=1).astype(np.uint8)
@@ -141,33 +196,67 @@ def build_geometry(sol: Solution, dim: bool = False) -> Geometry:
         curve_colors=np.concatenate(curve_colors) if curves else np.zeros((0, 2, 3), np.uint8),
         spheres=spheres, markers=markers, center=center, extent=extent, points=pos,
         scene_up=np.asarray(_AXES.get(scene.up if scene else "+z", (0, 0, 1)), float),
+        colorbar=colorbar,
     )
     return geometry
 
 
-def fit_camera(g: Geometry, aspect: float = 1.0, bottom: float = 0.0,
-               margin: float = 1.2) -> Camera:
-    """Look at the trajectory's centre obliquely from the side of its best-fit plane (from
-    behind its start, `OBLIQUE` off the plane normal, `ELEVATION` above the plane), just far
-    enough that every point is inside a canvas of width/height `aspect` whose lowest
-    `bottom` fraction is covered (by a floating panel). 'Up' points away
-    from a body the trajectory is close to (a landing is seen with the ground below), else
-    along the scene's up axis."""
-    up = np.asarray(g.scene_up, float)
+def path_segments(sol: Solution, positions: np.ndarray | None = None) -> np.ndarray:
+    """Display-unit segments of a solution's path (or of other positions in its frame,
+    e.g. an iterate from `Solution.history`)."""
+    scale = sol.scene.display_scale if sol.scene is not None else 1.0
+    pos = np.asarray(sol.positions if positions is None else positions, float) * scale
+    return polyline_segments(pos) if len(pos) > 1 else np.zeros((0, 2, 3))
+
+
+def _view_up(g: Geometry) -> np.ndarray:
+    """'Up' on screen: away from a large body the trajectory is close to (a landing is
+    seen with the ground below), else the scene's up axis. Small bodies (a target drawn
+    enlarged) do not count."""
     for s in g.spheres:
         offset = g.center - s.center
-        if 0 < np.linalg.norm(offset) < s.radius + 2.0 * g.extent:
-            up = offset / np.linalg.norm(offset)
-            break
+        if s.radius > 0.5 * g.extent and 0 < np.linalg.norm(offset) < s.radius + 2 * g.extent:
+            return offset / np.linalg.norm(offset)
+    return np.asarray(g.scene_up, float)
+
+
+def _plane_axes(pts: np.ndarray) -> np.ndarray:
+    """Rows: the path's main direction, second direction and best-fit plane normal."""
+    if len(pts) >= 3:
+        return np.linalg.svd(pts - pts.mean(axis=0), full_matrices=False)[2]
+    return np.eye(3)
+
+
+def top_view(g: Geometry) -> np.ndarray:
+    """Direction from the path towards a camera looking straight at its plane (the plan
+    view), from the side 'up' points to when the plane is vertical."""
+    pts = g.points if len(g.points) else g.center[None]
+    normal = _plane_axes(pts)[-1]
+    ref = g.scene_up if abs(normal.dot(g.scene_up)) > 1e-6 else _view_up(g)
+    return normal if normal.dot(ref) >= 0 else -normal
+
+
+def fit_camera(g: Geometry, aspect: float = 1.0, bottom: float = 0.0,
+               margin: float = 1.2, view: np.ndarray | None = None) -> Camera:
+    """Look at the trajectory's centre obliquely from the side of its best-fit plane (from
+    behind its start, `OBLIQUE` off the plane normal, `ELEVATION` above the plane), or from
+    the direction `view` if given, just far enough that every point is inside a canvas of
+    width/height `aspect` whose lowest `bottom` fraction is covered (by a floating panel).
+    'Up' is `_view_up`, made perpendicular to the line of sight."""
+    up = _view_up(g)
     pts = g.points if len(g.points) else g.center[None]
     framed = np.concatenate([pts, g.arrows.reshape(-1, 3)] + [m[1][None] for m in g.markers])
-    axes = np.eye(3)
-    if len(pts) >= 3:
-        axes = np.linalg.svd(pts - pts.mean(axis=0), full_matrices=False)[2]
+    axes = _plane_axes(pts)
     along, normal = axes[0], axes[-1]
     bottom = min(max(bottom, 0.0), 0.45)
     side = normal - normal.dot(up) * up
-    if np.linalg.norm(side) < 0.3:
+    if view is not None:
+        view = np.asarray(view, float)
+        up = up - up.dot(view) * view
+        if np.linalg.norm(up) < 1e-6:  # looking along 'up': the path's direction is up
+            up = along - along.dot(view) * view
+        up /= np.linalg.norm(up)
+    elif np.linalg.norm(side) < 0.3:
         # The trajectory lies across 'up' (e.g. an orbit seen from above): look down at it.
         ref = np.array([1.0, 0.0, 0.0]) if abs(up[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
         side = ref - ref.dot(up) * up
@@ -180,7 +269,7 @@ def fit_camera(g: Geometry, aspect: float = 1.0, bottom: float = 0.0,
             back /= np.linalg.norm(back)
             back = back if back.dot(pts[0] - pts[-1]) >= 0 else -back
         view = math.cos(OBLIQUE) * side + math.sin(OBLIQUE) * back + ELEVATION * up
-    view /= np.linalg.norm(view)
+    view = view / np.linalg.norm(view)
     right = np.cross(up, view)
     right /= np.linalg.norm(right)
     screen_up = np.cross(view, right)
@@ -207,18 +296,70 @@ def line_colors(srgb: np.ndarray) -> np.ndarray:
     return np.round(255.0 * lin).astype(np.uint8)
 
 
-class SceneView:
-    """Draws geometry into one client's scene, re-sending the context (bodies, curves,
-    markers) only when it changed, so slider drags send just the trajectory."""
+def fade(rgb: np.ndarray | tuple[int, int, int], amount: float, dark: bool = True) -> np.ndarray:
+    """`rgb` blended towards the sky by `amount` (0 = unchanged, 1 = invisible): lines have
+    no alpha, so fading is a blend with the background."""
+    sky = np.full(3, BACKGROUNDS[dark], float)
+    return np.round((1.0 - amount) * np.asarray(rgb, float) + amount * sky).astype(np.uint8)
 
-    def __init__(self, scene: viser.SceneApi) -> None:
+
+def ghost_geometry(sol: Solution, upto: int | None = None,
+                   dark: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    """Segments and colours of the iterates in `sol.history` (the first `upto` of them):
+    the earliest faintest, each later one brighter, the newest shown in full."""
+    history = sol.history[:upto] if upto is not None else sol.history
+    segs, cols = [], []
+    n = len(history)
+    for k, snap in enumerate(history):
+        s = path_segments(sol, snap["positions"])
+        if not len(s):
+            continue
+        amount = 0.6 * (1.0 - (k + 1) / n) + 0.05
+        segs.append(s)
+        cols.append(np.broadcast_to(fade(GHOST, amount, dark), s.shape))
+    if not segs:
+        return np.zeros((0, 2, 3)), np.zeros((0, 2, 3), np.uint8)
+    return np.concatenate(segs), np.concatenate(cols).astype(np.uint8)
+
+
+def vehicle_mesh(mission: str) -> bytes | None:
+    """GLB bytes of the mission's vehicle from `assets/` (None if the assets are missing)."""
+    try:
+        table = json.loads((ASSETS / "vehicles.json").read_text())
+        name = table.get(mission, table["default"])
+        return (ASSETS / f"{name}.glb").read_bytes()
+    except (OSError, KeyError, ValueError):
+        return None
+
+
+class SceneView:
+    """Draws geometry into one scene (a client's, or the server's in shared mode),
+    re-sending the context (bodies, curves, markers) only when it changed, so slider drags
+    send just the trajectory. Layers: the solution, a failed attempt, comparison overlays,
+    iterate ghosts and the vehicle, each replaced in place by name (no flicker)."""
+
+    def __init__(self, scene: viser.SceneApi, dark: bool = True) -> None:
         self.scene = scene
         self._context_key: bytes | None = None
         self._context: list[viser.SceneNodeHandle] = []
         self._solution: dict[str, viser.SceneNodeHandle] = {}
+        self._layers: dict[str, viser.SceneNodeHandle] = {}
+        self._vehicle: dict[str, viser.SceneNodeHandle] = {}
+        self._vehicle_key: tuple[str, float] | None = None
+        self._vehicle_size = 1.0
         scene.configure_environment_map(None)
         scene.configure_default_lights(cast_shadow=False)
-        scene.set_background_image(np.full((1, 1, 3), 8, np.uint8))
+        self.set_dark(dark)
+
+    def set_dark(self, dark: bool) -> None:
+        self.dark = dark
+        self.scene.set_background_image(np.full((1, 1, 3), BACKGROUNDS[dark], np.uint8))
+
+    @property
+    def node_count(self) -> int:
+        """Scene nodes this view holds (constant over re-solves: nothing accumulates)."""
+        return (len(self._context) + len(self._solution) + len(self._layers)
+                + len(self._vehicle))
 
     def draw(self, g: Geometry) -> None:
         """Replace the drawn solution by `g` (same names replace in place: no flicker)."""
@@ -231,7 +372,8 @@ class SceneView:
                 thickness_units="screen")
         if len(g.nodes):
             new["/nodes"] = self.scene.add_point_cloud(
-                "/nodes", g.nodes.astype(np.float32), NODE, point_size=size,
+                "/nodes", g.nodes.astype(np.float32), NODE if self.dark else NODE_LIGHT,
+                point_size=size,
                 point_shape="circle", precision="float32")
         if len(g.arrows):
             new["/thrust"] = self.scene.add_arrows(
@@ -242,11 +384,98 @@ class SceneView:
                 handle.remove()
         self._solution = new
 
+    def show_solution(self, visible: bool) -> None:
+        """Hide the solution layer (a comparison shows its own paths) or show it again."""
+        for handle in self._solution.values():
+            handle.visible = visible
+
+    def set_layer(self, name: str, segments: np.ndarray, colors: np.ndarray,
+                  thickness: float = 3.0) -> None:
+        """Draw (or, given no segments, remove) a named batch of segments coloured by
+        `colors`, (N, 2, 3) sRGB."""
+        path = f"/layers/{name}"
+        if not len(segments):
+            handle = self._layers.pop(path, None)
+            if handle is not None:
+                handle.remove()
+            return
+        self._layers[path] = self.scene.add_line_segments(
+            path, segments, line_colors(colors), thickness=thickness, thickness_units="screen")
+
+    def clear_layers(self, prefix: str = "") -> None:
+        for path in [p for p in self._layers if p.startswith(f"/layers/{prefix}")]:
+            self._layers.pop(path).remove()
+
+    # ---- vehicle ------------------------------------------------------------------------
+    def set_vehicle(self, mission: str, extent: float) -> None:
+        """Load the mission's vehicle mesh sized to the view (once per mission and size)."""
+        size = VEHICLE_FRACTION * extent
+        key = (mission, round(size, 12))
+        if key == self._vehicle_key:
+            return
+        self.remove_vehicle()
+        body = vehicle_mesh(mission)
+        frame = self.scene.add_frame("/vehicle", show_axes=False, visible=False)
+        self._vehicle = {"frame": frame}
+        if body is not None:
+            self._vehicle["body"] = self.scene.add_glb("/vehicle/body", body, scale=size)
+            self._vehicle["plume"] = self.scene.add_glb(
+                "/vehicle/plume", (ASSETS / "plume.glb").read_bytes(),
+                scale=(size, size, size), position=(0.0, 0.0, -0.5 * size), visible=False)
+        else:  # no assets: a plain box still shows where the vehicle is
+            self._vehicle["body"] = self.scene.add_box(
+                "/vehicle/body", (255, 255, 255), dimensions=(size, size, size))
+        self._vehicle["force"] = self.scene.add_arrows(
+            "/vehicle_force", np.zeros((1, 2, 3)), ARROW, shaft_radius=0.06 * size,
+            head_radius=0.18 * size, head_length=0.4 * size, visible=False)
+        self._vehicle_size = size
+        self._vehicle_key = key
+
+    @property
+    def vehicle_size(self) -> float:
+        """Length of the drawn vehicle in display units."""
+        return self._vehicle_size
+
+    @property
+    def vehicle_position(self) -> np.ndarray:
+        """Where the vehicle is drawn (display units; the origin before any pose)."""
+        frame = self._vehicle.get("frame")
+        return np.array(frame.position if frame is not None else np.zeros(3), float)
+
+    def move_vehicle(self, pose: Pose) -> None:
+        """Place the vehicle at `pose`: attitude, plume length and the force arrow."""
+        if not self._vehicle:
+            return
+        size = self._vehicle_size
+        frame = self._vehicle["frame"]
+        frame.position = tuple(pose.position)
+        frame.wxyz = tuple(pose.wxyz)
+        frame.visible = True
+        plume = self._vehicle.get("plume")
+        if plume is not None:
+            plume.visible = pose.throttle > 1e-3
+            if plume.visible:
+                plume.scale = (size, size, size * (0.4 + 1.2 * pose.throttle))
+        force = self._vehicle["force"]
+        magnitude = float(np.linalg.norm(pose.force))
+        force.visible = magnitude > 1e-3
+        if force.visible:
+            tip = pose.position + 2.5 * size * pose.force
+            force.points = np.array([[pose.position, tip]], np.float32)
+
+    def remove_vehicle(self) -> None:
+        """Remove the vehicle (its frame takes the body and plume with it)."""
+        for key in ("frame", "force"):
+            if key in self._vehicle:
+                self._vehicle[key].remove()
+        self._vehicle, self._vehicle_key = {}, None
+
     def clear(self) -> None:
         """Remove everything drawn (a mission change)."""
-        for handle in [*self._context, *self._solution.values()]:
+        for handle in [*self._context, *self._solution.values(), *self._layers.values()]:
             handle.remove()
-        self._context, self._solution, self._context_key = [], {}, None
+        self.remove_vehicle()
+        self._context, self._solution, self._layers, self._context_key = [], {}, {}, None
 
     def _draw_context(self, g: Geometry) -> None:
         key = repr([(s.name, s.center.tolist(), s.radius, s.color, s.subdivisions)

@@ -4,7 +4,9 @@ The session knows nothing about viser: views subscribe as `SessionListener`s, so
 session can drive one browser tab (the default) or several (a future `--shared` mode), and
 tests can drive it without a browser. Requests are solved on one worker thread per session;
 the newest request wins: submitting cancels the running solve through its `cancel` event
-and replaces any request still waiting.
+and replaces any request still waiting. A request is either one solve of the current state
+or a method comparison (every chosen method on the same values). Each solve gets the
+session's `time_limit`, so no request can hold the worker for long.
 """
 
 from __future__ import annotations
@@ -13,7 +15,7 @@ import itertools
 import threading
 import time
 import traceback
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Protocol
 
@@ -32,7 +34,10 @@ class Request:
     nodes: int
     backend: str | None
     values: dict[str, float]
+    time_limit: float | None = None
+    compare: tuple[tuple[str, int], ...] = ()  # (method, nodes) pairs of a comparison
     cancel: threading.Event = field(default_factory=threading.Event, compare=False)
+    started: float = field(default_factory=time.monotonic, compare=False)
 
 
 class SessionListener(Protocol):
@@ -41,6 +46,9 @@ class SessionListener(Protocol):
 
     def on_config(self, session: Session) -> None:
         """Mission, method or preset changed: rebuild the controls."""
+
+    def on_submit(self, request: Request) -> None:
+        """A request was queued (it supersedes every older one)."""
 
     def on_progress(self, request: Request, iteration: int, message: str) -> None:
         """The running solve reached `iteration`."""
@@ -54,6 +62,13 @@ class SessionListener(Protocol):
     def on_error(self, request: Request, message: str) -> None:
         """The request was rejected (bad input): nothing was solved."""
 
+    def on_compare(self, request: Request, solutions: list[Solution]) -> None:
+        """A comparison finished: one solution per method, checks already run."""
+
+
+DEFAULT_TIME_LIMIT = 5.0  # s per solve: a slider move never hangs the session
+COLD_FACTOR = 3.0  # a cold solve (no warm start of that method: it also builds the NLP)
+
 
 class Session:
     """Mission/method/node/value state of one view plus a newest-request-wins solver.
@@ -64,8 +79,10 @@ class Session:
     """
 
     def __init__(self, mission: Mission, *, method: str | None = None,
-                 nodes: int | None = None, auto: bool = True) -> None:
+                 nodes: int | None = None, auto: bool = True,
+                 time_limit: float | None = DEFAULT_TIME_LIMIT) -> None:
         self.auto = auto
+        self.time_limit = time_limit
         self.listeners: list[SessionListener] = []
         self.last_good: Solution | None = None
         self.latest: Solution | None = None
@@ -129,24 +146,58 @@ class Session:
         self._changed(config=True)
 
     def set_value(self, key: str, value: float) -> None:
+        """Change one value (SI); an unchanged value is ignored (no re-solve)."""
         if key not in self.values:
             raise KeyError(f"'{key}' is not a parameter of {self.mission.key}/{self.method}")
+        if self.values[key] == float(value):
+            return
         self.values[key] = float(value)
         self._changed(config=False)
 
     def set_nodes(self, nodes: int) -> None:
+        if self.nodes == int(nodes):
+            return
         self.nodes = int(nodes)
         self._changed(config=False)
 
     def set_backend(self, backend: str) -> None:
+        if self.backend == backend:
+            return
         self.backend = backend
         self._changed(config=False)
+
+    def set_time_limit(self, seconds: float | None) -> None:
+        """Time limit of later solves (None: no limit); the running solve keeps its own."""
+        self.time_limit = None if seconds is None or seconds <= 0 else float(seconds)
 
     # ---- solving ----------------------------------------------------------------------
     def submit(self) -> Request:
         """Queue a solve of the current state; cancels the running and waiting ones."""
+        return self._queue(())
+
+    def compare(self, methods: Sequence[str]) -> Request:
+        """Queue a comparison: every method in `methods` on the current values (the current
+        method with the current node count, the others with their default); cancels the
+        running and waiting requests like `submit`."""
+        pairs = tuple((key, self.nodes if key == self.method else self.mission.method(key).nodes[1])
+                      for key in methods)
+        if not pairs:
+            raise ValueError("choose at least one method to compare")
+        return self._queue(pairs)
+
+    def request_time_limit(self, compare: bool = False) -> float | None:
+        """The limit of the next solve: `time_limit`, times `COLD_FACTOR` when it cannot be
+        warm-started (first solve of this mission and method, or a comparison)."""
+        good = self.last_good
+        warm = (good is not None and good.mission == self.mission.key
+                and good.method == self.method)
+        if self.time_limit is None or (warm and not compare):
+            return self.time_limit
+        return COLD_FACTOR * self.time_limit
+
+    def _queue(self, compare: tuple[tuple[str, int], ...]) -> Request:
         request = Request(next(self._seq), self.mission, self.method, self.nodes, self.backend,
-                          dict(self.values))
+                          dict(self.values), self.request_time_limit(bool(compare)), compare)
         with self._cond:
             if self._running is not None:
                 self._running.cancel.set()
@@ -155,6 +206,7 @@ class Session:
             self._pending = request
             self._newest = request.seq
             self._cond.notify_all()
+        self._emit("on_submit", request)
         return request
 
     @property
@@ -203,16 +255,24 @@ class Session:
                         self._delivered = max(self._delivered, request.seq)
                     self._cond.notify_all()
 
-    def _run(self, request: Request) -> None:
+    def _solve(self, request: Request, method: str, nodes: int, backend: str | None,
+               label: str = "") -> Solution:
         def progress(iteration: int, message: str) -> None:
             if not self._stale(request):
-                self._emit("on_progress", request, iteration, message)
+                self._emit("on_progress", request, iteration, label or message)
 
+        return request.mission.solve(
+            request.values, method, nodes, backend=backend, warm=self.last_good,
+            progress=progress, cancel=request.cancel, time_limit=request.time_limit,
+            verify=False,
+        )
+
+    def _run(self, request: Request) -> None:
+        if request.compare:
+            self._run_compare(request)
+            return
         try:
-            sol = request.mission.solve(
-                request.values, request.method, request.nodes, backend=request.backend,
-                warm=self.last_good, progress=progress, cancel=request.cancel, verify=False,
-            )
+            sol = self._solve(request, request.method, request.nodes, request.backend)
         except ValueError as exc:
             if not self._stale(request):
                 self.error = str(exc)
@@ -233,3 +293,26 @@ class Session:
             sol.message += f" (re-propagation check failed: {exc})"
         if not self._stale(request):
             self._emit("on_check", request, sol)
+
+    def _run_compare(self, request: Request) -> None:
+        """Solve every method of the comparison in turn, then run their checks."""
+        solutions = []
+        for key, nodes in request.compare:
+            backend = request.backend if key == request.method else None
+            try:
+                sol = self._solve(request, key, nodes, backend, label=f"comparing: {key}")
+            except ValueError as exc:
+                if not self._stale(request):
+                    self.error = str(exc)
+                    self._emit("on_error", request, str(exc))
+                return
+            if self._stale(request):
+                return
+            if sol.ok and sol.has_trajectory:
+                try:
+                    sol.run_check()
+                except Exception as exc:  # noqa: BLE001 - reported in the table, never fatal
+                    sol.message += f" (re-propagation check failed: {exc})"
+            solutions.append(sol)
+        if not self._stale(request):
+            self._emit("on_compare", request, solutions)

@@ -8,6 +8,7 @@ from solvers.solution import Solution
 
 _UNIT_TOKENS = {"m", "s", "kg", "km", "rad", "deg", "N", "s2"}
 KEPT = "_showing the last good trajectory (dimmed)_"
+SHOWN = 3  # quantities and check items in the status; all of them are in the details
 
 
 def check_label(key: str) -> tuple[str, str]:
@@ -30,7 +31,7 @@ def headline(sol: Solution) -> str:
     if math.isfinite(sol.cost.value):
         parts.append(f"{sol.cost.label} **{sol.cost.value:.6g} {sol.cost.unit}**".rstrip())
     parts += [f"{q.label} {_num(q.value, 6)} {q.unit}".rstrip()
-              for q in sol.quantities.values() if q.label != sol.cost.label]
+              for q in sol.quantities.values() if q.label != sol.cost.label][:SHOWN]
     return " · ".join(parts)
 
 
@@ -50,10 +51,23 @@ def check_line(sol: Solution) -> str:
     if not sol.check:
         return ""
     items = []
-    for key, value in sol.check.items():
+    for key, value in list(sol.check.items())[:SHOWN]:
         name, unit = check_label(key)
         items.append(f"{name} {_num(value, 2)} {unit}".rstrip())
-    return "re-propagation check: " + " · ".join(items)
+    more = " · …" if len(sol.check) > SHOWN else ""
+    return "re-propagation check: " + " · ".join(items) + more
+
+
+def details_markdown(sol: Solution) -> str:
+    """Every quantity, statistic and check of a solution as a table (the status shows only
+    the first few)."""
+    rows = [f"| {sol.cost.label} (cost) | {_num(sol.cost.value, 8)} {sol.cost.unit} |"]
+    rows += [f"| {q.label} | {_num(q.value, 8)} {q.unit} |" for q in sol.quantities.values()]
+    rows += [f"| {key.replace('_', ' ')} | {_num(v, 6)} |" for key, v in sol.stats.items()]
+    for key, value in sol.check.items():
+        name, unit = check_label(key)
+        rows.append(f"| check: {name} | {_num(value, 3)} {unit} |")
+    return "\n".join(["| | |", "|---|---|", *rows])
 
 
 def result_markdown(sol: Solution, checking: bool = False, kept: bool = False) -> str:
@@ -68,9 +82,15 @@ def result_markdown(sol: Solution, checking: bool = False, kept: bool = False) -
     return "  \n".join(line for line in lines if line)
 
 
-def progress_markdown(iteration: int, previous: str) -> str:
-    """'solving… iteration k' above the previous result, which stays readable."""
+def progress_markdown(iteration: int, previous: str, elapsed: float | None = None,
+                      limit: float | None = None, message: str = "") -> str:
+    """'solving… iteration k (t s of the limit)' above the previous result, which stays
+    readable; `message` is the solver's (or the comparison's) progress note."""
     head = f"**solving… iteration {iteration}**"
+    if elapsed is not None:
+        head += f" ({elapsed:.1f} s" + (f" of {limit:g} s limit)" if limit else ")")
+    if message:
+        head += f"  \n_{message}_"
     return f"{head}  \n{previous}" if previous else head
 
 

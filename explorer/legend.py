@@ -1,0 +1,54 @@
+"""The legend under the status line: what the colours in the 3D view mean (burn/coast arcs
+or the colour bar of `Solution.color_by`, nodes, thrust arrows, a dimmed or failed
+trajectory, a comparison's methods)."""
+
+from __future__ import annotations
+
+import html
+from collections.abc import Sequence
+
+from .scene import ARROW, BURN, COAST, NODE, WARNING, ColorBar, Geometry, colorbar_css
+
+STYLE = ("<style>.lg{font-size:0.78em;line-height:1.5}.lg span.sw{display:inline-block;"
+         "width:14px;height:4px;margin:0 4px 2px 0;vertical-align:middle;border-radius:1px}"
+         ".lg .it{margin-right:10px;white-space:nowrap}.lg .bar{height:8px;border-radius:2px;"
+         "margin:2px 0}.lg .ends{display:flex;justify-content:space-between}</style>")
+
+
+def _item(rgb: Sequence[int], label: str, dot: bool = False) -> str:
+    shape = "width:7px;height:7px;border-radius:50%" if dot else ""
+    return (f'<span class="it"><span class="sw" style="background:rgb{tuple(rgb)};{shape}">'
+            f"</span>{html.escape(label)}</span>")
+
+
+def _colorbar(bar: ColorBar) -> str:
+    unit = f" [{bar.unit}]" if bar.unit else ""
+    return (f"<div>path coloured by <b>{html.escape(bar.name)}</b>{html.escape(unit)}</div>"
+            f'<div class="bar" style="background:{colorbar_css()}"></div>'
+            f'<div class="ends"><span>{bar.lo:.4g}</span><span>{bar.hi:.4g}</span></div>')
+
+
+def legend_html(g: Geometry, dim: bool = False, failed: bool = False,
+                comparison: Sequence[tuple[str, tuple[int, int, int]]] | None = None) -> str:
+    """The legend as HTML for the current drawing."""
+    items: list[str] = []
+    if comparison:
+        items += [_item(c, name) for name, c in comparison]
+    else:
+        if dim:
+            items.append(_item((110, 110, 110), "last good (dimmed)"))
+        elif g.colorbar is not None:
+            items.append(_colorbar(g.colorbar))
+        else:
+            kinds = {tuple(c) for c in g.segment_colors[:, 0].tolist()}
+            if tuple(BURN) in kinds:
+                items.append(_item(BURN, "burn arc"))
+            if tuple(COAST) in kinds:
+                items.append(_item(COAST, "coast arc"))
+        if failed:
+            items.append(_item(WARNING, "failed attempt"))
+    if len(g.nodes) and not comparison:
+        items.append(_item(NODE, "nodes", dot=True))
+    if len(g.arrows) and not comparison:
+        items.append(_item(ARROW, "thrust direction"))
+    return f'{STYLE}<div class="lg">{"".join(items)}</div>'
