@@ -1,4 +1,5 @@
-"""Command line: `python -m solvers list | params MISSION | solve MISSION ...`.
+"""Command line: `python -m solvers list | params MISSION | solve MISSION ... |
+sweep MISSION --grid KEY=V1,V2 ... | launch-map --out DIR ...`.
 
 Bad input (unknown mission, method or key, values out of range) exits with code 2 and one
 line on stderr; a solve that runs but does not converge exits 1 after printing its result.
@@ -44,6 +45,19 @@ def build_parser() -> argparse.ArgumentParser:
     solve.add_argument("--time-limit", type=float, help="stop the solve after this many s")
     solve.add_argument("--json", action="store_true", help="print one JSON object")
     solve.add_argument("--csv", metavar="FILE", help="write the dense trajectory as CSV")
+    sweep = sub.add_parser("sweep", help="solve a mission over a grid of parameter values")
+    sweep.add_argument("mission")
+    sweep.add_argument("--grid", action="append", default=[], metavar="KEY=V1,V2,...",
+                       required=True, help="an axis of the grid (repeatable)")
+    sweep.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                       help="a fixed parameter value in SI units (repeatable)")
+    sweep.add_argument("--method")
+    sweep.add_argument("--nodes", type=int)
+    sweep.add_argument("--scheduler", help="dask.distributed scheduler address (tcp://...)")
+    sweep.add_argument("--workers", type=int, help="local worker processes (default: cores)")
+    sweep.add_argument("--out", metavar="FILE", help="write every solution summary as JSON")
+    sub.add_parser("launch-map", add_help=False,
+                   help="asteroid launch-C3 map, PNG and data (python -m solvers launch-map -h)")
     return parser
 
 
@@ -59,6 +73,47 @@ def parse_assignments(items: Sequence[str]) -> dict[str, float]:
         except ValueError:
             raise _BadInput(f"--set {key}: '{raw}' is not a number") from None
     return values
+
+
+def parse_axes(items: Sequence[str]) -> dict[str, list[float]]:
+    """`key=v1,v2,...` strings to grid axes."""
+    axes: dict[str, list[float]] = {}
+    for item in items:
+        key, sep, raw = item.partition("=")
+        try:
+            values = [float(v) for v in raw.split(",") if v.strip()]
+        except ValueError:
+            raise _BadInput(f"--grid {key}: '{raw}' is not a list of numbers") from None
+        if not sep or not key or not values:
+            raise _BadInput(f"--grid expects KEY=V1,V2,..., got '{item}'")
+        axes[key.strip()] = values
+    return axes
+
+
+def _cmd_sweep(args: argparse.Namespace) -> int:
+    from .sweep import mission_grid
+
+    mission = get_mission(args.mission)
+    axes = parse_axes(args.grid)
+    fixed = parse_assignments(args.set)
+    # Validate every grid point before any worker starts: bad input fails fast, exit 2.
+    keys = list(axes)
+    for key in keys:
+        for value in axes[key]:
+            mission.validate({**fixed, key: value}, args.method, args.nodes)
+    rows = mission_grid(mission.key, axes, fixed, args.method, args.nodes, args.scheduler,
+                        args.workers)
+    if args.out:
+        with open(args.out, "w", encoding="utf-8") as fh:
+            json.dump(rows, fh, allow_nan=False)
+    print("  ".join([*keys, "status", rows[0]["cost"]["label"] if rows else "cost", "wall_s"]))
+    for row in rows:
+        cells = [f"{row['values'][k]:g}" for k in keys]
+        cost = row["cost"]["value"]
+        cells += [row["status"], "nan" if cost is None else f"{cost:.6g}",
+                  f"{row['stats']['wall_s']:.3f}"]
+        print("  ".join(cells))
+    return 0 if all(r["status"] == "optimal" for r in rows) else EXIT_NOT_OPTIMAL
 
 
 def _cmd_list() -> str:
@@ -113,6 +168,11 @@ def _cmd_solve(args: argparse.Namespace) -> int:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if argv[:1] == ["launch-map"]:  # its own parser and options
+        from .launch_map import main as launch_map_main
+
+        return launch_map_main(argv[1:])
     try:
         args = build_parser().parse_args(argv)
         if args.command == "list":
@@ -121,6 +181,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.command == "params":
             print(_cmd_params(get_mission(args.mission)))
             return 0
+        if args.command == "sweep":
+            return _cmd_sweep(args)
         return _cmd_solve(args)
     except (_BadInput, ValueError) as exc:
         print(f"error: {exc}", file=sys.stderr)

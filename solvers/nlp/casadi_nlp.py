@@ -118,7 +118,10 @@ class NLP:
         p: ca.SX | ca.MX,
         backend: str = "ipopt",
         name: str = "nlp",
+        ipopt_options: dict | None = None,
     ) -> None:
+        """`ipopt_options` are added to (and override) the common IPOPT settings, e.g.
+        {"ipopt.mu_strategy": "adaptive"} for a problem that needs it."""
         if backend not in BACKENDS:
             raise ValueError(f"unknown NLP back end '{backend}' (back ends: {', '.join(BACKENDS)})")
         self.backend = backend
@@ -126,6 +129,7 @@ class NLP:
         self.n_g = int(g.numel())
         self.n_p = int(p.numel())
         self._problem = {"x": x, "f": f, "g": g, "p": p}
+        self._ipopt_options = dict(ipopt_options or {})
         self._name = name
         self._hook = _IterationHook(f"{name}_hook", self.n_x, self.n_g, self.n_p)
         self._solvers: dict[bool, ca.Function] = {}
@@ -136,7 +140,7 @@ class NLP:
         key = warm and self.backend == "ipopt"
         if key not in self._solvers:
             if self.backend == "ipopt":
-                opts = dict(_IPOPT_COMMON, **(_IPOPT_WARM if key else {}))
+                opts = {**_IPOPT_COMMON, **self._ipopt_options, **(_IPOPT_WARM if key else {})}
                 opts["iteration_callback"] = self._hook
                 self._solvers[key] = ca.nlpsol(self._name, "ipopt", self._problem, opts)
             else:

@@ -1,0 +1,120 @@
+"""Grids and Monte-Carlo runs on a `concurrent.futures` Executor.
+
+Local processes by default; the same calls run on a `dask.distributed` cluster when given a
+scheduler address ("tcp://host:8786"), through `Client.get_executor()` — dask is imported
+only then and is not a dependency (`pip install "dask[distributed]"` to use it). Work
+functions must be importable module-level functions (they are pickled to the workers), and
+the workers must have this package installed.
+
+Two shapes of work:
+- `grid_rows`: a vectorised function of (row values, column values) -> a 2-D block, split
+  into row chunks (the launch-C3 map: one Lambert batch per chunk of launch dates);
+- `mission_grid` / `monte_carlo`: one mission solve per value set, returning the
+  solutions' JSON summaries.
+"""
+
+from __future__ import annotations
+
+import itertools
+import os
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from concurrent.futures import Executor, ProcessPoolExecutor
+from contextlib import contextmanager
+from typing import Any
+
+import numpy as np
+
+
+@contextmanager
+def executor(scheduler: str | None = None, workers: int | None = None) -> Iterator[Executor]:
+    """A process pool (default: one worker per core) or a dask cluster's executor."""
+    if scheduler:
+        try:
+            from dask.distributed import Client
+        except ImportError as exc:  # pragma: no cover - depends on the environment
+            raise RuntimeError(
+                'a scheduler address needs dask: pip install "dask[distributed]"'
+            ) from exc
+        with Client(scheduler) as client:
+            yield client.get_executor()
+        return
+    with ProcessPoolExecutor(max_workers=workers or os.cpu_count() or 1) as pool:
+        yield pool
+
+
+def grid_rows(
+    fn: Callable[..., np.ndarray],
+    rows: np.ndarray,
+    cols: np.ndarray,
+    *args: Any,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    chunks: int | None = None,
+    pool: Executor | None = None,
+) -> np.ndarray:
+    """Evaluate fn(rows_chunk, cols, *args) -> (len(chunk), len(cols)) over row chunks and
+    stack the blocks. `pool` reuses an open executor; otherwise one is opened for the call
+    (`workers=1` with no scheduler runs in this process, no pool at all)."""
+    rows = np.asarray(rows)
+    if pool is None and not scheduler and workers == 1:
+        return np.asarray(fn(rows, cols, *args))
+    n_chunks = chunks or 4 * (workers or os.cpu_count() or 1)
+    parts = [p for p in np.array_split(rows, min(n_chunks, len(rows))) if len(p)]
+    # Sized argument lists: dask's executor needs len() of every iterable.
+    extra = [[a] * len(parts) for a in (cols, *args)]
+    if pool is not None:
+        return np.vstack(list(pool.map(fn, parts, *extra)))
+    with executor(scheduler, workers) as ex:
+        blocks = list(ex.map(fn, parts, *extra))
+    return np.vstack(blocks)
+
+
+def solve_summary(mission_key: str, values: Mapping[str, float], method: str | None,
+                  nodes: int | None) -> dict[str, Any]:
+    """Solve one request and return its JSON-ready summary (the work unit of mission sweeps)."""
+    from .registry import get_mission
+
+    sol = get_mission(mission_key).solve(dict(values), method=method, nodes=nodes)
+    out = sol.to_dict()
+    out["quantities"] = {k: q.value for k, q in sol.quantities.items()}
+    return out
+
+
+def mission_grid(
+    mission_key: str,
+    axes: Mapping[str, Sequence[float]],
+    fixed: Mapping[str, float] | None = None,
+    method: str | None = None,
+    nodes: int | None = None,
+    scheduler: str | None = None,
+    workers: int | None = None,
+) -> list[dict[str, Any]]:
+    """Solve a mission on the Cartesian product of `axes` (param key -> values)."""
+    keys = list(axes)
+    value_sets = [dict(fixed or {}, **dict(zip(keys, combo, strict=True)))
+                  for combo in itertools.product(*(axes[k] for k in keys))]
+    return _solve_all(mission_key, value_sets, method, nodes, scheduler, workers)
+
+
+def monte_carlo(
+    mission_key: str,
+    sampler: Callable[[np.random.Generator], Mapping[str, float]],
+    runs: int,
+    seed: int = 0,
+    fixed: Mapping[str, float] | None = None,
+    method: str | None = None,
+    nodes: int | None = None,
+    scheduler: str | None = None,
+    workers: int | None = None,
+) -> list[dict[str, Any]]:
+    """Solve a mission for `runs` value sets drawn by `sampler(rng)` (seeded, repeatable)."""
+    rng = np.random.default_rng(seed)
+    value_sets = [dict(fixed or {}, **sampler(rng)) for _ in range(runs)]
+    return _solve_all(mission_key, value_sets, method, nodes, scheduler, workers)
+
+
+def _solve_all(mission_key, value_sets, method, nodes, scheduler, workers):
+    n = len(value_sets)
+    with executor(scheduler, workers) as ex:
+        return list(ex.map(solve_summary, [mission_key] * n, value_sets, [method] * n,
+                           [nodes] * n))
