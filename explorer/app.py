@@ -16,6 +16,7 @@ from contextlib import AbstractContextManager
 from typing import Any
 
 import numpy as np
+import plotly.graph_objects as go
 import viser
 
 from solvers import list_missions
@@ -29,7 +30,7 @@ from .compare import comparison_html
 from .controls import Controls
 from .export import file_stem, plots_png, png_bytes, solution_csv, solution_figure, solution_json
 from .legend import legend_html
-from .plots import figure_aspect, make_figure, set_time_marker
+from .plots import figure_aspect, make_figure, map_figure, set_time_marker
 from .scene import (
     FOV,
     PALETTE,
@@ -121,6 +122,10 @@ class View:
         self.panel = gui.add_panel()
         with self.panel.add_tab("Plots", viser.Icon.CHART_LINE):
             self.plot = gui.add_plotly(self._figure, aspect=PLOT_ASPECT)
+        with self.panel.add_tab("Map", viser.Icon.MAP):
+            self.map_note = gui.add_markdown("This mission has no map.")
+            self.map_plot = gui.add_plotly(go.Figure(), aspect=PLOT_ASPECT, visible=False)
+        self._map_key: tuple | None = None
         with self.panel.add_tab("About", viser.Icon.INFO_CIRCLE):
             self.about = gui.add_html("")
         self.panel.float(x=-PANEL_GAP, y=-PANEL_GAP, width=PLOT_PANEL[0], height=PLOT_PANEL[1])
@@ -347,12 +352,25 @@ class View:
                             self.t_anim if self.track else None, self.dark)
             self.plot.figure = self._figure
             self.plot.aspect = figure_aspect(len(sol.plots), PLOT_ASPECT)
+            self._draw_map(sol)
             self._draw_ghosts()
         self.legend.content = legend_html(geometry, dim=dim, failed=self._failed)
         if self._mission_drawn != sol.mission:
             self._mission_drawn = sol.mission
             self.apply_camera()
         self.drawn += 1
+
+    def _draw_map(self, sol: Solution) -> None:
+        """The solution's first `GridMap` in the Map tab, re-sent only when it changed."""
+        grid_map = sol.maps[0] if sol.maps else None
+        key = None if grid_map is None else (id(grid_map.z), grid_map.marker, self.dark)
+        if key == self._map_key:
+            return
+        self._map_key = key
+        self.map_note.visible = grid_map is None
+        self.map_plot.visible = grid_map is not None
+        if grid_map is not None:
+            self.map_plot.figure = map_figure(grid_map, self.dark)
 
     def _set_failed(self, sol: Solution | None) -> None:
         """Show a failed attempt's trajectory in the warning colour (or remove it)."""
@@ -518,6 +536,7 @@ class View:
         pose = track.pose(t)
         with self._lock:
             self.scene.move_vehicle(pose)
+            self.scene.move_bodies(t)
         if self.camera_mode.value == "follow vehicle":
             self._follow(pose.position)
         if not slow:

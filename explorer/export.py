@@ -111,10 +111,12 @@ def scene_html(sol: Solution, aspect: float = 16 / 9, dark: bool = True) -> str:
         track = Track(sol)
         view.set_vehicle(sol.mission, g.extent)
         view.move_vehicle(track.pose(track.t0))
+        view.move_bodies(track.t0)
         serializer = server.get_scene_serializer()
         frames = int(PLAY_SECONDS * EXPORT_FPS)
         for t in np.linspace(track.t0, track.tf, frames + 1):
             view.move_vehicle(track.pose(float(t)))
+            view.move_bodies(float(t))
             serializer.insert_sleep(1.0 / EXPORT_FPS)
         serializer.insert_sleep(1.0)  # rest at the end before the loop restarts
         return serializer.as_html(dark_mode=dark)

@@ -12,7 +12,7 @@ import numpy as np
 import plotly.graph_objects as go
 from plotly.subplots import make_subplots
 
-from solvers.solution import PlotSeries
+from solvers.solution import GridMap, PlotSeries
 
 GROUP_COLORS = {"state": "#00c8ff", "control": "#ff8c00"}
 OTHER_COLOR = "#b0e060"
@@ -99,4 +99,29 @@ def set_time_marker(fig: go.Figure, n_series: int, t: float | None,
                            "x0": t, "x1": t, "y0": 0.0, "y1": 1.0,
                            "line": {"color": MARKER_COLOR[dark], "width": 1.5}})
     fig.layout.shapes = shapes
+    return fig
+
+
+def map_figure(grid_map: GridMap, dark: bool = True) -> go.Figure:
+    """A `GridMap` as a filled contour (values above `z_max` clipped) with the solution
+    marked; e.g. paper 003's launch-C3 map."""
+    z = np.clip(np.asarray(grid_map.z, float).T, 0.0, grid_map.z_max)
+    fig = go.Figure(go.Contour(
+        x=np.asarray(grid_map.x), y=np.asarray(grid_map.y), z=z,
+        contours={"start": 0.0, "end": grid_map.z_max, "size": grid_map.z_max / 10,
+                  "coloring": "heatmap"},
+        colorscale="Viridis", colorbar={"title": grid_map.z_label},
+        hovertemplate="%{x:.0f}, %{y:.0f}: %{z:.3g}<extra></extra>",
+    ))
+    if grid_map.marker is not None:
+        fig.add_trace(go.Scatter(
+            x=[grid_map.marker[0]], y=[grid_map.marker[1]], mode="markers+text",
+            text=[grid_map.marker_label], textposition="top center",
+            marker={"symbol": "x", "size": 12, "color": "#ff3030"}, showlegend=False))
+    fig.update_layout(
+        title={"text": grid_map.title, "font": {"size": 12}},
+        xaxis_title=grid_map.x_label, yaxis_title=grid_map.y_label,
+        margin={"l": 50, "r": 10, "t": 40, "b": 40},
+        template="plotly_dark" if dark else "plotly_white",
+    )
     return fig

@@ -67,6 +67,7 @@ class Sphere:
     radius: float
     color: tuple[int, int, int]
     subdivisions: int
+    track: np.ndarray | None = None  # display-unit positions at `Geometry.times`
 
 
 @dataclass
@@ -86,6 +87,7 @@ class Geometry:
     points: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))  # trajectory
     scene_up: np.ndarray = field(default_factory=lambda: np.array([0.0, 0.0, 1.0]))
     colorbar: ColorBar | None = None
+    times: np.ndarray = field(default_factory=lambda: np.zeros(0))  # Solution.t
 
 
 @dataclass
@@ -186,8 +188,12 @@ def build_geometry(sol: Solution, dim: bool = False) -> Geometry:
             curve_colors.append(np.broadcast_to(np.array(curve.color, np.uint8), segs.shape))
         for body in scene.bodies:
             radius = body.radius * scale
+            track = None
+            if body.track is not None and len(body.track) == len(sol.t):
+                track = np.asarray(body.track, float) * scale
             spheres.append(Sphere(body.name, np.asarray(body.center, float) * scale, radius,
-                                  body.color, sphere_subdivisions(radius, 0.003 * extent)))
+                                  body.color, sphere_subdivisions(radius, 0.003 * extent),
+                                  track))
         markers = [(m.name, np.asarray(m.position, float) * scale, m.color)
                    for m in scene.markers]
     geometry = Geometry(
@@ -196,7 +202,7 @@ def build_geometry(sol: Solution, dim: bool = False) -> Geometry:
         curve_colors=np.concatenate(curve_colors) if curves else np.zeros((0, 2, 3), np.uint8),
         spheres=spheres, markers=markers, center=center, extent=extent, points=pos,
         scene_up=np.asarray(_AXES.get(scene.up if scene else "+z", (0, 0, 1)), float),
-        colorbar=colorbar,
+        colorbar=colorbar, times=np.asarray(sol.t, float),
     )
     return geometry
 
@@ -347,6 +353,7 @@ class SceneView:
         self._vehicle: dict[str, viser.SceneNodeHandle] = {}
         self._vehicle_key: tuple[str, float] | None = None
         self._vehicle_size = 1.0
+        self._moving: list[tuple[viser.SceneNodeHandle, np.ndarray, np.ndarray]] = []
         scene.configure_environment_map(None)
         scene.configure_default_lights(cast_shadow=False)
         self.set_dark(dark)
@@ -463,6 +470,11 @@ class SceneView:
             tip = pose.position + 2.5 * size * pose.force
             force.points = np.array([[pose.position, tip]], np.float32)
 
+    def move_bodies(self, t: float) -> None:
+        """Put every body that has a track where it is at time t."""
+        for handle, times, track in self._moving:
+            handle.position = tuple(np.interp(t, times, track[:, i]) for i in range(3))
+
     def remove_vehicle(self) -> None:
         """Remove the vehicle (its frame takes the body and plume with it)."""
         for key in ("frame", "force"):
@@ -476,21 +488,25 @@ class SceneView:
             handle.remove()
         self.remove_vehicle()
         self._context, self._solution, self._layers, self._context_key = [], {}, {}, None
+        self._moving = []
 
     def _draw_context(self, g: Geometry) -> None:
         key = repr([(s.name, s.center.tolist(), s.radius, s.color, s.subdivisions)
                     for s in g.spheres] + [(m[0], m[1].tolist()) for m in g.markers]).encode()
         key += g.curve_segments.tobytes()
+        key += b"".join(s.track.tobytes() for s in g.spheres if s.track is not None)
         if key == self._context_key:
             return
         for handle in self._context:
             handle.remove()
-        self._context = []
+        self._context, self._moving = [], []
         add = self._context.append
         for s in g.spheres:
             add(self.scene.add_icosphere(f"/bodies/{s.name}", s.radius, s.color,
                                          subdivisions=s.subdivisions, position=s.center,
                                          cast_shadow=False, receive_shadow=False))
+            if s.track is not None:
+                self._moving.append((self._context[-1], g.times, s.track))
         if len(g.curve_segments):
             add(self.scene.add_line_segments("/curves", g.curve_segments,
                                              line_colors(g.curve_colors),

@@ -47,6 +47,9 @@ class Body:
     center: tuple[float, float, float]
     radius: float
     color: tuple[int, int, int]
+    # Where the body is at each dense time `Solution.t` (metres, display frame), for bodies
+    # that move with the vehicle in the animation (a planet, a target); None = fixed.
+    track: np.ndarray | None = None
 
 
 @dataclass
@@ -76,6 +79,24 @@ class ColorBy:
     name: str
     unit: str
     values: np.ndarray
+
+
+@dataclass
+class GridMap:
+    """A scalar over a 2-D grid shown as a contour map beside the plots (e.g. launch C3 over
+    launch date and flight time), with this solution marked on it. `z` has shape
+    (len(x), len(y)); values above `z_max` are clipped."""
+
+    title: str
+    x_label: str
+    x: np.ndarray
+    y_label: str
+    y: np.ndarray
+    z_label: str
+    z: np.ndarray
+    z_max: float
+    marker: tuple[float, float] | None = None
+    marker_label: str = "this solution"
 
 
 @dataclass
@@ -126,6 +147,7 @@ class Solution:
     scene: Scene | None = None
     color_by: ColorBy | None = None
     plots: list[PlotSeries] = field(default_factory=list)
+    maps: list[GridMap] = field(default_factory=list)
     stats: dict[str, float] = field(default_factory=dict)
     history: list[dict[str, Any]] = field(default_factory=list)
     check: dict[str, float] = field(default_factory=dict)

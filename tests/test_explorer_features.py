@@ -259,3 +259,43 @@ def test_live_view_stays_bounded_over_many_resolves():
         view.close()
     finally:
         server.stop()
+
+
+def test_bodies_with_a_track_move_with_the_animation_time():
+    """A body carrying a track (e.g. Earth and the asteroid in the asteroid mission) is put
+    where it is at the animation time; fixed bodies stay put."""
+    import viser
+
+    from explorer.capture import free_port
+    from explorer.scene import SceneView
+
+    sol = _burn_coast_burn()
+    track = np.column_stack([np.zeros_like(sol.t), 2e3 * sol.t, np.zeros_like(sol.t)])
+    sol.scene.bodies.append(Body("planet", (0.0, 0.0, 0.0), 50.0, (70, 130, 255), track))
+    g = build_geometry(sol)
+    server = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)
+    try:
+        view = SceneView(server.scene)
+        view.draw(g)
+        handles = {name: h for name, h in server.scene._handle_from_node_name.items()
+                   if name.startswith("/bodies/")}
+        fixed = np.array(handles["/bodies/target"].position)
+        view.move_bodies(5.0)
+        # 2 km/s x 5 s = 10 km, drawn in km.
+        assert np.allclose(handles["/bodies/planet"].position, (0.0, 10.0, 0.0))
+        assert np.allclose(handles["/bodies/target"].position, fixed)
+    finally:
+        server.stop()
+
+
+def test_grid_map_figure_marks_the_solution():
+    from explorer.plots import map_figure
+    from solvers.solution import GridMap
+
+    z = np.add.outer(np.arange(5.0), np.arange(3.0)) * 10.0  # (len(x), len(y))
+    fig = map_figure(GridMap("C3", "launch", np.arange(5.0), "flight", np.arange(3.0), "C3",
+                             z, z_max=20.0, marker=(2.0, 1.0)))
+    contour, marker = fig.data
+    assert np.asarray(contour.z).shape == (3, 5)  # plotly wants rows = y
+    assert np.asarray(contour.z).max() == 20.0  # clipped at z_max
+    assert (marker.x[0], marker.y[0]) == (2.0, 1.0)

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import threading
 from dataclasses import dataclass
+from functools import cache
 
 import casadi as ca
 import numpy as np
@@ -35,7 +36,17 @@ from ..dynamics.ephemeris import (
 from ..dynamics.kepler import state_to_elements
 from ..mission import Infeasible, Mission, SolveContext
 from ..problem import Method, Param, Preset, Published
-from ..solution import Body, ColorBy, Curve, Marker, PlotSeries, Quantity, Scene, Solution
+from ..solution import (
+    Body,
+    ColorBy,
+    Curve,
+    GridMap,
+    Marker,
+    PlotSeries,
+    Quantity,
+    Scene,
+    Solution,
+)
 from ..transcription.low_thrust import (
     EPHEMERIS_FIRST,
     EPHEMERIS_LAST,
@@ -378,6 +389,8 @@ class AsteroidRendezvous(Mission):
         sol.thrust = res.U / fmax
         sol.history = [{"iteration": k, "positions": pos} for k, pos in res.history]
         sol.scene = _scene(res.launch_mjd, arrival, values)
+        _attach_tracks(sol)
+        _attach_launch_map(sol, res.launch_mjd, arrival - res.launch_mjd)
         sol.color_by = ColorBy("thrust magnitude", "mN", np.linalg.norm(U, axis=1) * 1e3)
         sol.plots = _plots(t, X, U, t_nodes, res.X, res.U, fmax)
         sol.stats.update(
@@ -428,6 +441,8 @@ class AsteroidRendezvous(Mission):
         sol.node_positions = r_imp
         sol.thrust = transfer.impulses / max(float(sizes.max()), 1e-9)
         sol.scene = _scene(transfer.launch_mjd, transfer.arrival_mjd, values)
+        _attach_tracks(sol)
+        _attach_launch_map(sol, transfer.launch_mjd, transfer.arrival_mjd - transfer.launch_mjd)
         speed = np.linalg.norm(v, axis=1)
         sol.plots = [
             PlotSeries("heliocentric speed", "km/s", t, speed / 1e3, impulse_t, None),
@@ -472,9 +487,40 @@ def body_tracks(sol: Solution) -> dict[str, np.ndarray]:
     return {"Earth": earth_state(dates)[0], "Kamoʻoalewa": asteroid_state(dates, elements)[0]}
 
 
+@cache
+def _launch_map(elements: int):
+    """Paper 003 fig. 2 on a display grid (3-day launch steps, 10-day flight steps): about
+    0.1 s once per element set."""
+    from ..launch_map import compute_launch_map
+
+    return compute_launch_map(elements=ELEMENT_SETS[elements], tof=(50.0, 700.0, 66),
+                              workers=1, step_days=3.0)
+
+
+def _attach_launch_map(sol: Solution, launch_mjd: float, flight_days: float) -> None:
+    """The launch-C3 map with this solution's (launch date, flight time) marked."""
+    m = _launch_map(int(sol.values["elements"]))
+    sol.maps = [GridMap(
+        "launch C3 (paper 003 fig. 2): set a date pair with 'first guess: Lambert arc at "
+        "chosen dates'", "launch date [days since 2022-01-01]", m.launch_mjd - MJD_2022,
+        "flight time [d]", m.tof_days, "C3 [km²/s²]", m.c3, sol.values["c3_max"] / 1e6,
+        marker=(launch_mjd - MJD_2022, flight_days),
+    )]
+
+
+def _attach_tracks(sol: Solution) -> None:
+    """Let Earth and the asteroid move with the spacecraft in the animation."""
+    tracks = body_tracks(sol)
+    for body in sol.scene.bodies:
+        for name, track in tracks.items():
+            if body.name.startswith(name):
+                body.track = track
+
+
 def _scene(launch_mjd: float, arrival_mjd: float, values: dict) -> Scene:
-    """Sun, both orbits (one revolution from launch), Earth at launch and the asteroid at
-    arrival (enlarged spheres), and markers labelled with the dates."""
+    """Sun, both orbits (one revolution from launch), Earth (drawn at launch) and the asteroid
+    at arrival (enlarged spheres that move with the spacecraft in the animation), and markers
+    labelled with the dates."""
     elements = ELEMENT_SETS[int(values["elements"])]
     year = launch_mjd + np.linspace(0.0, 365.25, 367)
     r_earth_orbit, _ = earth_state(year)
@@ -488,9 +534,8 @@ def _scene(launch_mjd: float, arrival_mjd: float, values: dict) -> Scene:
         display_scale=1.0 / AU,
         bodies=[
             Body("Sun (enlarged)", (0.0, 0.0, 0.0), SUN_RADIUS_DRAWN, (255, 210, 60)),
-            Body("Earth at launch (enlarged)", tuple(r_launch), PLANET_RADIUS_DRAWN,
-                 (70, 130, 255)),
-            Body("Kamoʻoalewa at arrival (enlarged)", tuple(r_arrival),
+            Body("Earth (enlarged)", tuple(r_launch), PLANET_RADIUS_DRAWN, (70, 130, 255)),
+            Body("Kamoʻoalewa (enlarged)", tuple(r_arrival),
                  0.6 * PLANET_RADIUS_DRAWN, (200, 160, 120)),
         ],
         curves=[
