@@ -299,3 +299,15 @@ def test_grid_map_figure_marks_the_solution():
     assert np.asarray(contour.z).shape == (3, 5)  # plotly wants rows = y
     assert np.asarray(contour.z).max() == 20.0  # clipped at z_max
     assert (marker.x[0], marker.y[0]) == (2.0, 1.0)
+
+
+def test_every_mission_and_method_equation_renders_as_mathml():
+    pytest.importorskip("latex2mathml")
+    from explorer.about import mathml
+    from solvers import list_missions
+
+    for mission in list_missions():
+        assert mission.equations, f"{mission.key} has no equations for its About panel"
+        for caption, latex in mission.equations + tuple(
+                eq for m in mission.methods for eq in m.equations):
+            assert mathml(latex).startswith("<math"), f"{mission.key}: {caption}"

@@ -210,6 +210,15 @@ class ApolloReentry(Mission):
     published = PUBLISHED
     cost_label = "heat load J"
     cost_unit = COST_UNIT
+    equations = (
+        ("Apollo-type reentry (Stoer & Bulirsch; paper 004, example 2)",
+         r"\dot v = -\frac{S\rho v^2 C_D(u)}{2m} - \frac{g\sin\gamma}{(1+\xi)^2},\quad "
+         r"\dot\gamma = \frac{S\rho v C_L(u)}{2m} + \frac{v\cos\gamma}{R(1+\xi)} - "
+         r"\frac{g\cos\gamma}{v(1+\xi)^2},\quad \dot\xi = \frac{v\sin\gamma}{R}"),
+        ("Atmosphere, aerodynamics and the heating cost",
+         r"\rho = \rho_0 e^{-\beta R\xi},\quad C_D = 1.174 - 0.9\cos u,\quad C_L = 0.6\sin u,"
+         r"\qquad J = \int_0^T 10\, v^3\sqrt{\rho}\, dt"),
+    )
     presets = (
         Preset("Paper 004 case: multiple shooting, 10 intervals", {},
                method="multiple-shooting", nodes=10,

@@ -291,6 +291,14 @@ class AsteroidRendezvous(Mission):
     published = PUBLISHED
     cost_label = "fuel"
     cost_unit = "kg"
+    equations = (
+        ("Heliocentric two-body motion with thrust (paper 003)",
+         r"\dot r = v,\quad \dot v = -\frac{\mu r}{\lVert r\rVert^3} + \frac{U}{m},\quad "
+         r"\dot m = -\frac{\lVert U\rVert}{I_{sp} g_0},\qquad \lVert U(t_i)\rVert \le F_{max}"),
+        ("Cost and boundary conditions",
+         r"\max\ m(t_f),\quad r(t_0) = r_E(t_0),\ v(t_0) = v_E(t_0) + v_\infty,\ "
+         r"\lVert v_\infty\rVert^2 \le C_{3,max},\quad (r, v)(t_f) = (r_A, v_A)(t_f)"),
+    )
     presets = (
         Preset("Paper 003 case (three-impulse guess)", {}),
         Preset("Two-impulse single-revolution guess", {"guess_kind": 0}),

@@ -550,6 +550,19 @@ class EllipticTransfer(Mission):
     published = PUBLISHED
     cost_label = "J = ½∫|u|²dt"
     cost_unit = "m^2/s^3"
+    equations = (
+        ("Tschauner–Hempel equations in true anomaly (paper 001, eq. 1), x̃ = (1 + e cos f) x",
+         r"\tilde x'' = \frac{3\tilde x}{1 + e\cos f} + 2\tilde y' "
+         r"+ \frac{u_x}{k^4(1 + e\cos f)^3},"
+         r"\quad \tilde y'' = -2\tilde x' + \frac{u_y}{k^4(1 + e\cos f)^3},"
+         r"\quad \tilde z'' = -\tilde z + \frac{u_z}{k^4(1 + e\cos f)^3}"),
+        ("Minimum-energy cost: physical (SI) and the paper's true-anomaly form (eq. 5)",
+         r"J = \frac12\int_{t_0}^{t_f} \lVert u\rVert^2\,dt,\qquad "
+         r"J_f = \frac12\int_{f_0}^{f_T} \frac{u^T u}{(1 + e\cos f)^2}\,df = k^2 J"),
+        ("LGL nodes, weights and differentiation matrix (eq. 4)",
+         r"w_i = \frac{2}{N(N+1)L_N(t_i)^2},\qquad D_{ij} = \frac{L_N(t_i)}{L_N(t_j)(t_i - t_j)}"
+         r"\ (i \ne j)"),
+    )
     presets = (
         Preset("Paper 001 case", {}, method="seq-law", nodes=64,
                note="a = 9500 km, e = 0.3, three periods, N = 64."),

@@ -220,6 +220,13 @@ class Hovercraft(Mission):
     published = PUBLISHED
     cost_label = "final time"
     cost_unit = "s"
+    equations = (
+        ("Hovercraft dynamics (paper 004, example 1)",
+         r"\dot x = v_x,\quad \dot y = v_y,\quad \dot v_x = \frac{A}{m}\cos\alpha,\quad "
+         r"\dot v_y = \frac{A}{m}\sin\alpha,\qquad \min T"),
+        ("Minimum-time steering law (maximum principle): linear tangent",
+         r"\tan\alpha(t) = \frac{c_3 - c_4 t}{c_1 - c_2 t}"),
+    )
     presets = (
         Preset("Paper 004 case (T0 = 2)", {}, note="Published 2.464; true minimum 2.4954276."),
         Preset("Paper 004 case, guess T0 = 5", {"T_guess": 5.0},
