@@ -20,9 +20,8 @@ from ..mission import Infeasible, Mission, SolveContext
 from ..ocp import OCP, Bounds, Guess, OCPResult
 from ..problem import Method, Param, Preset, Published
 from ..solution import Body, ColorBy, Marker, PlotSeries, Quantity, Scene, Solution
-from ..transcription.hermite_simpson import HermiteSimpson
-from ..transcription.multiple_shooting import MultipleShooting
-from ..transcription.pseudospectral import LGLPseudospectral
+from ..transcription import direct_transcription
+from ..transcription.direct import DirectTranscription
 from ..verify import repropagate
 
 DEG = np.pi / 180
@@ -180,13 +179,11 @@ def _ocp() -> OCP:
     )
 
 
-@cache
-def _transcription(kind: str, n: int, backend: str):
+def _transcription(kind: str, n: int, backend: str) -> DirectTranscription:
     if kind == "multiple-shooting":
-        return MultipleShooting(_ocp(), n, backend,
-                                substeps=max(2, -(-RK4_STEPS_PER_RUN // n)))
-    cls = HermiteSimpson if kind == "hermite-simpson" else LGLPseudospectral
-    return cls(_ocp(), n, backend)
+        substeps = max(2, -(-RK4_STEPS_PER_RUN // n))
+        return direct_transcription(kind, _ocp(), n, backend, substeps=substeps)
+    return direct_transcription(kind, _ocp(), n, backend)
 
 
 @cache

@@ -30,9 +30,8 @@ from ..mission import Mission, SolveContext
 from ..ocp import OCP, Bounds, Guess
 from ..problem import Method, Param, Preset, Published
 from ..solution import Body, Curve, Marker, PlotSeries, Quantity, Scene, Solution
+from ..transcription import direct_transcription
 from ..transcription.burn_coast import ArcModel, BurnCoast, BurnCoastResult
-from ..transcription.hermite_simpson import HermiteSimpson
-from ..transcription.multiple_shooting import MultipleShooting
 from ..verify import repropagate
 
 PAPER = "Finite-thrust rendezvous by direct collocation (paper 000)"
@@ -175,12 +174,6 @@ def _burn_coast(planar: bool, burns: int, k: int, backend: str) -> BurnCoast:
     return BurnCoast(_arc_model(planar), burns, k, backend)
 
 
-@cache
-def _transcription(kind: str, n: int, backend: str) -> HermiteSimpson | MultipleShooting:
-    cls = HermiteSimpson if kind == "free-structure" else MultipleShooting
-    return cls(_free_ocp(), n, backend)
-
-
 class CWRendezvous(Mission):
     key = "cw-rendezvous"
     title = "Finite-thrust rendezvous (CW)"
@@ -221,7 +214,8 @@ class CWRendezvous(Mission):
         p = _circular_ocp_params(values)
         if method.key == "paper":
             return self._solve_arcs(values, p, nodes, backend, warm, ctx)
-        transcription = _transcription(method.key, nodes, backend)
+        kind = "hermite-simpson" if method.key == "free-structure" else method.key
+        transcription = direct_transcription(kind, _free_ocp(), nodes, backend)
         warm_start = warm.warm if warm is not None and warm.ok else None
         res = transcription.solve(p, warm_start, ctx)
         acc = res.U[:, :3]

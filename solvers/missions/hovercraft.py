@@ -29,9 +29,8 @@ from ..mission import Infeasible, Mission, SolveContext
 from ..ocp import OCP, Bounds, Guess, OCPResult, WarmStart
 from ..problem import Method, Param, Preset, Published
 from ..solution import Curve, Marker, PlotSeries, Quantity, Scene, Solution
-from ..transcription.hermite_simpson import HermiteSimpson
-from ..transcription.multiple_shooting import MultipleShooting
-from ..transcription.pseudospectral import LGLPseudospectral
+from ..transcription import direct_transcription
+from ..transcription.direct import DirectTranscription
 from ..verify import repropagate
 
 DEG = np.pi / 180
@@ -184,13 +183,8 @@ def _ocp(vector: bool) -> OCP:
     )
 
 
-_KINDS = {"multiple-shooting": MultipleShooting, "hermite-simpson": HermiteSimpson,
-          "lgl": LGLPseudospectral}
-
-
-@cache
-def _transcription(kind: str, n: int, backend: str, vector: bool):
-    return _KINDS[kind](_ocp(vector), n, backend)
+def _transcription(kind: str, n: int, backend: str, vector: bool) -> DirectTranscription:
+    return direct_transcription(kind, _ocp(vector), n, backend)
 
 
 def _converted(warm: WarmStart, U: np.ndarray) -> WarmStart:

@@ -25,8 +25,7 @@ from ..mission import Infeasible, Mission, SolveContext
 from ..ocp import OCP, Bounds, Guess
 from ..problem import Method, Param, Preset, Published
 from ..solution import Body, Curve, Marker, PlotSeries, Quantity, Scene, Solution
-from ..transcription.hermite_simpson import HermiteSimpson
-from ..transcription.multiple_shooting import MultipleShooting
+from ..transcription import direct_transcription
 from ..verify import repropagate
 
 DEG = np.pi / 180
@@ -171,12 +170,6 @@ def _time_guess(p: np.ndarray) -> float:
     return float(p[P_M0] * p[P_C] / p[P_F] * (1 - np.exp(-dv / p[P_C])))
 
 
-@cache
-def _transcription(kind: str, n: int, backend: str) -> HermiteSimpson | MultipleShooting:
-    cls = HermiteSimpson if kind == "hermite-simpson" else MultipleShooting
-    return cls(_ocp(), n, backend)
-
-
 class LunarLanding(Mission):
     key = "lunar-landing"
     title = "Lunar soft landing"
@@ -237,7 +230,7 @@ class LunarLanding(Mission):
         _precheck(p)
         if method.key == "paper":
             return self._solve_paper(values, p, nodes, warm, ctx)
-        transcription = _transcription(method.key, nodes, backend)
+        transcription = direct_transcription(method.key, _ocp(), nodes, backend)
         warm_start = warm.warm if warm is not None and warm.ok else None
         res = transcription.solve(p, warm_start, ctx)
         sol = self._record(values, method.key, nodes, backend, p, res.status, res.message,

@@ -1,1 +1,30 @@
-"""Transcriptions of optimal control problems into NLPs, one method per module."""
+"""Transcriptions of optimal control problems into NLPs, one method per module.
+
+`direct_transcription(kind, ocp, n, backend)` is the one-line method swap for any `OCP`:
+the NLP is built once per (kind, problem, node count, back end, options) and cached, so a
+slider move re-solves the built NLP warm.
+"""
+
+from __future__ import annotations
+
+from functools import cache
+
+from ..ocp import OCP
+from .direct import DirectTranscription
+from .hermite_simpson import HermiteSimpson
+from .multiple_shooting import MultipleShooting
+from .pseudospectral import LGLPseudospectral
+
+TRANSCRIPTIONS: dict[str, type[DirectTranscription]] = {
+    "hermite-simpson": HermiteSimpson,
+    "multiple-shooting": MultipleShooting,
+    "lgl": LGLPseudospectral,
+}
+
+
+@cache
+def direct_transcription(
+    kind: str, ocp: OCP, n_intervals: int, backend: str = "ipopt", **options: int
+) -> DirectTranscription:
+    """The cached transcription of `ocp` by method `kind` (a key of TRANSCRIPTIONS)."""
+    return TRANSCRIPTIONS[kind](ocp, n_intervals, backend, **options)
