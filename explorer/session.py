@@ -287,10 +287,7 @@ class Session:
         self._emit("on_result", request, sol)
         if not (sol.ok and sol.has_trajectory) or self._stale(request):
             return
-        try:
-            sol.run_check()
-        except Exception as exc:  # noqa: BLE001 - a failed check is reported, never fatal
-            sol.message += f" (re-propagation check failed: {exc})"
+        sol.run_check()
         if not self._stale(request):
             self._emit("on_check", request, sol)
 
@@ -309,10 +306,7 @@ class Session:
             if self._stale(request):
                 return
             if sol.ok and sol.has_trajectory:
-                try:
-                    sol.run_check()
-                except Exception as exc:  # noqa: BLE001 - reported in the table, never fatal
-                    sol.message += f" (re-propagation check failed: {exc})"
+                sol.run_check()
             solutions.append(sol)
         if not self._stale(request):
             self._emit("on_compare", request, solutions)

@@ -159,10 +159,15 @@ class Solution:
         return self.status == "optimal"
 
     def run_check(self) -> dict[str, float]:
-        """Run the deferred re-propagation check (see `Mission.solve(verify=False)`)."""
+        """Run the deferred re-propagation check (see `Mission.solve(verify=False)`). A check
+        that fails is reported in `message`, never raised: the solution stays usable."""
         if self.checker is not None:
-            self.check.update(self.checker())
-            self.checker = None
+            checker, self.checker = self.checker, None
+            try:
+                self.check.update(checker())
+            except Exception as exc:  # noqa: BLE001 - a failed check is reported, not fatal
+                self.check["error"] = float("nan")
+                self.message += f" (re-propagation check failed: {exc})"
         return self.check
 
     @property

@@ -172,3 +172,16 @@ def test_validation_accepts_exactly_the_documented_range():
             assert inside and out["mass"] == value
 
     check()
+
+
+def test_a_failing_check_is_reported_not_raised():
+    sol = Solution(mission="m", method="x", nodes=1, status="optimal", message="ok",
+                   cost=Quantity(1.0, "cost", ""))
+
+    def broken():
+        raise RuntimeError("integrator blew up")
+
+    sol.checker = broken
+    check = sol.run_check()
+    assert math.isnan(check["error"]) and "integrator blew up" in sol.message
+    assert sol.checker is None
