@@ -7,10 +7,11 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from functools import cache
 
 import numpy as np
 import plotly.graph_objects as go
-from plotly.subplots import make_subplots
+import plotly.io as pio
 
 from solvers.solution import GridMap, PlotSeries
 
@@ -42,49 +43,82 @@ def make_figure(series: Sequence[PlotSeries], dim: bool = False, dark: bool = Tr
                 overlays: Sequence[Overlay] = ()) -> go.Figure:
     """Subplots of `series` (dense line + node markers); `dim` greys a stale result;
     `overlays` (a comparison) draw other solutions' series of the same titles in their own
-    colours, with a legend."""
+    colours, with a legend.
+
+    Built as plain plotly JSON (axes laid out here, no `make_subplots`, no validation):
+    plotly's validating constructors cost ~25 ms per subplot, far too slow for a figure
+    redrawn on every slider move."""
     titles_src = list(series) or (list(overlays[0][2]) if overlays else [])
-    rows, columns = grid(len(titles_src))
-    titles = [f"{s.title} [{s.unit}]" if s.unit else s.title for s in titles_src]
-    fig = make_subplots(rows=rows, cols=columns, subplot_titles=titles or None,
-                        horizontal_spacing=0.3 / columns, vertical_spacing=0.5 / rows)
-    where = {s.title: divmod(i, columns) for i, s in enumerate(titles_src)}
+    n = len(titles_src)
+    rows, columns = grid(n)
+    where = {s.title: i for i, s in enumerate(titles_src)}
     node_color = "#f5f5f5" if dark else "#303030"
+    data: list[dict] = []
+
+    def line(s: PlotSeries, i: int, **style) -> dict:
+        return {"type": "scatter", "x": np.asarray(s.t), "y": np.asarray(s.y), "mode": "lines",
+                "xaxis": _axis("x", i), "yaxis": _axis("y", i), **style}
+
     for s in series:
-        row, col = where[s.title]
+        i = where[s.title]
         color = "#777777" if dim else GROUP_COLORS.get(s.group, OTHER_COLOR)
-        fig.add_trace(go.Scatter(x=np.asarray(s.t), y=np.asarray(s.y), mode="lines",
-                                 line={"color": color, "width": 2}, name=s.title,
-                                 showlegend=False, hoverinfo="x+y"), row=row + 1, col=col + 1)
+        data.append(line(s, i, line={"color": color, "width": 2}, name=s.title,
+                         showlegend=False, hoverinfo="x+y"))
         if s.t_nodes is not None and s.y_nodes is not None:
-            fig.add_trace(go.Scatter(x=np.asarray(s.t_nodes), y=np.asarray(s.y_nodes),
-                                     mode="markers", name=f"{s.title} nodes", showlegend=False,
-                                     marker={"color": node_color, "size": 3}, hoverinfo="x+y"),
-                          row=row + 1, col=col + 1)
+            data.append({"type": "scatter", "x": np.asarray(s.t_nodes),
+                         "y": np.asarray(s.y_nodes), "mode": "markers",
+                         "xaxis": _axis("x", i), "yaxis": _axis("y", i),
+                         "name": f"{s.title} nodes", "showlegend": False,
+                         "marker": {"color": node_color, "size": 3}, "hoverinfo": "x+y"})
     for name, rgb, overlay in overlays:
         first = True
         for s in overlay:
-            if s.title not in where:
-                continue
-            row, col = where[s.title]
-            fig.add_trace(go.Scatter(x=np.asarray(s.t), y=np.asarray(s.y), mode="lines",
-                                     line={"color": _rgb(rgb), "width": 2}, name=name,
-                                     legendgroup=name, showlegend=first, hoverinfo="x+y+name"),
-                          row=row + 1, col=col + 1)
-            first = False
-    for i in range(len(titles_src)):
+            if s.title in where:
+                data.append(line(s, where[s.title], line={"color": _rgb(rgb), "width": 2},
+                                 name=name, legendgroup=name, showlegend=first,
+                                 hoverinfo="x+y+name"))
+                first = False
+    layout = {
+        "template": _template(dark), "showlegend": bool(overlays),
+        "legend": {"orientation": "h", "y": -0.18, "x": 0.0, "font": {"size": 10}},
+        "margin": {"l": 40, "r": 8, "t": 22, "b": 30 if not overlays else 50},
+        "font": {"size": 10}, "paper_bgcolor": "rgba(0,0,0,0)",
+        "plot_bgcolor": "#15171c" if dark else "#fafafa", "annotations": [],
+    }
+    h_gap, v_gap = 0.3 / columns, 0.5 / rows
+    width = (1.0 - h_gap * (columns - 1)) / columns
+    height = (1.0 - v_gap * (rows - 1)) / rows
+    for i, s in enumerate(titles_src):
         row, col = divmod(i, columns)
-        if i + columns >= len(titles_src):
-            fig.update_xaxes(title_text="t [s]", title_standoff=2, row=row + 1, col=col + 1)
-    fig.update_layout(
-        template="plotly_dark" if dark else "plotly_white", showlegend=bool(overlays),
-        legend={"orientation": "h", "y": -0.18, "x": 0.0, "font": {"size": 10}},
-        margin={"l": 40, "r": 8, "t": 22, "b": 30 if not overlays else 50},
-        font={"size": 10}, paper_bgcolor="rgba(0,0,0,0)",
-        plot_bgcolor="#15171c" if dark else "#fafafa",
-    )
-    fig.update_annotations(font_size=11)
-    return fig
+        x0 = col * (width + h_gap)
+        y1 = 1.0 - row * (height + v_gap)
+        xaxis = {"domain": _unit_interval(x0, x0 + width), "anchor": _axis("y", i)}
+        if i + columns >= n:  # bottom subplot of its column
+            xaxis["title"] = {"text": "t [s]", "standoff": 2}
+        layout[_axis("xaxis", i)] = xaxis
+        layout[_axis("yaxis", i)] = {"domain": _unit_interval(y1 - height, y1),
+                                     "anchor": _axis("x", i)}
+        title = f"{s.title} [{s.unit}]" if s.unit else s.title
+        layout["annotations"].append({
+            "text": title, "x": x0 + width / 2, "y": y1, "xref": "paper", "yref": "paper",
+            "xanchor": "center", "yanchor": "bottom", "showarrow": False, "font": {"size": 11}})
+    return go.Figure({"data": data, "layout": layout}, _validate=False)
+
+
+def _unit_interval(lo: float, hi: float) -> list[float]:
+    """A subplot domain inside [0, 1] (rounding can step just outside)."""
+    return [min(max(lo, 0.0), 1.0), min(max(hi, 0.0), 1.0)]
+
+
+def _axis(kind: str, i: int) -> str:
+    """Plotly's name of the i-th subplot's axis: x, x2, x3 ... (xaxis, xaxis2 ... in layout)."""
+    return kind if i == 0 else f"{kind}{i + 1}"
+
+
+@cache
+def _template(dark: bool) -> dict:
+    """The plotly template as JSON (a template name is resolved only by validation)."""
+    return pio.templates["plotly_dark" if dark else "plotly_white"].to_plotly_json()
 
 
 def set_time_marker(fig: go.Figure, n_series: int, t: float | None,

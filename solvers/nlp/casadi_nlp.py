@@ -191,6 +191,10 @@ class NLP:
             finally:
                 self._hook.handler = None
             stats = solver.stats()
+        if not warm and self.backend == "ipopt" and True not in self._solvers:
+            # The first slider move would otherwise pay for building the warm-start
+            # solver (up to ~1 s on the larger NLPs): build it now, off the caller's path.
+            threading.Thread(target=self._prepare_warm, daemon=True).start()
         if stop_reason:
             raise stop_reason[0]
         x = np.asarray(out["x"]).ravel()
@@ -212,6 +216,10 @@ class NLP:
             history=history,
         )
 
+
+    def _prepare_warm(self) -> None:
+        with self._lock:
+            self._solver(True)
 
     def _solve_penalty(self, x0, p, lbx, ubx, lbg, ubg, ctx) -> NLPResult:
         """The exterior penalty method (paper 000, eq. 12) on the same NLP."""
