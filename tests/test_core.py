@@ -185,3 +185,20 @@ def test_a_failing_check_is_reported_not_raised():
     check = sol.run_check()
     assert math.isnan(check["error"]) and "integrator blew up" in sol.message
     assert sol.checker is None
+
+
+def test_concurrent_builds_and_solves_are_safe():
+    """Explorer sessions build and solve NLPs on their own threads at the same time; CasADi
+    builds are not thread-safe, so they are serialised (this crashed the process before)."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    lunar = solvers.get_mission("lunar-landing")
+    hover = solvers.get_mission("hovercraft")
+    jobs = [(lunar, "hermite-simpson", n) for n in (41, 43, 47)]
+    jobs += [(lunar, "multiple-shooting", 23), (hover, "lgl", 13), (hover, "hermite-simpson", 17)]
+    with ThreadPoolExecutor(max_workers=len(jobs)) as pool:
+        sols = list(pool.map(lambda job: job[0].solve(method=job[1], nodes=job[2],
+                                                      verify=False), jobs))
+    assert all(s.ok for s in sols), [s.message for s in sols]
+    tfs = [s.quantities["tf"].value for s in sols[:4]]
+    assert max(tfs) - min(tfs) < 1e-3  # the same optimum whatever ran alongside

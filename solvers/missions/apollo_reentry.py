@@ -17,6 +17,7 @@ import numpy as np
 from ..dynamics import reentry as model
 from ..indirect.reentry import ReentryExtremal, solve_indirect
 from ..mission import Infeasible, Mission, SolveContext
+from ..nlp.casadi_nlp import built_once
 from ..ocp import OCP, Bounds, Guess, OCPResult
 from ..problem import Method, Param, Preset, Published
 from ..solution import Body, ColorBy, Marker, PlotSeries, Quantity, Scene, Solution
@@ -186,7 +187,7 @@ def _transcription(kind: str, n: int, backend: str) -> DirectTranscription:
     return direct_transcription(kind, _ocp(), n, backend)
 
 
-@cache
+@built_once
 def _augmented() -> ca.Function:
     """(x, heat)' = (f, L) for re-propagating the heat load with the state."""
     x = ca.SX.sym("x", 4)

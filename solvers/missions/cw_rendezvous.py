@@ -27,6 +27,7 @@ from ..dynamics.clohessy_wiltshire import (
     nonlinear_relative_miss,
 )
 from ..mission import Mission, SolveContext
+from ..nlp.casadi_nlp import built_once
 from ..ocp import OCP, Bounds, Guess
 from ..problem import Method, Param, Preset, Published
 from ..solution import Body, Curve, Marker, PlotSeries, Quantity, Scene, Solution
@@ -169,7 +170,7 @@ def _arc_model(planar: bool) -> ArcModel:
     )
 
 
-@cache
+@built_once
 def _burn_coast(planar: bool, burns: int, k: int, backend: str) -> BurnCoast:
     return BurnCoast(_arc_model(planar), burns, k, backend)
 

@@ -34,7 +34,7 @@ from ..dynamics.tschauner_hempel import (
 )
 from ..dynamics.two_body import elements_to_state, lvlh_basis, propagate_relative
 from ..mission import Infeasible, Mission, SolveContext
-from ..nlp.casadi_nlp import NLP, status_of
+from ..nlp.casadi_nlp import NLP, built_once, status_of
 from ..problem import Method, Param, Preset, Published
 from ..solution import Body, Curve, Marker, PlotSeries, Quantity, Scene, Solution
 from ..transcription.lgl import (
@@ -512,7 +512,7 @@ def convergence_table(
 # --- LGL collocation as a general NLP ---------------------------------------------------------
 
 
-@lru_cache(maxsize=8)
+@built_once
 def _lgl_nlp(N: int, backend: str) -> NLP:
     """The SEQ collocation as an NLP in variables (X, U) at the nodes, built once per N.
 
@@ -789,7 +789,7 @@ def _polynomial(nodes: np.ndarray, values: np.ndarray):
     return at
 
 
-@lru_cache(maxsize=1)
+@built_once
 def _linear_function() -> ca.Function:
     """The time-domain linear model f(x, u, p) for `repropagate` (x includes f)."""
     x, u, p = ca.SX.sym("x", 7), ca.SX.sym("u", 3), ca.SX.sym("p", 2)

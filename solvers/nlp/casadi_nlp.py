@@ -11,6 +11,8 @@ from __future__ import annotations
 import threading
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import cache, wraps
+from typing import Any, TypeVar
 
 import casadi as ca
 import numpy as np
@@ -18,7 +20,24 @@ import numpy as np
 from ..mission import Cancelled, SolveContext, TimeLimit
 from .exterior_penalty import penalty_functions, solve_exterior_penalty
 
+T = TypeVar("T")
 BACKENDS = ("ipopt", "sqp", "penalty-bfgs")
+# CasADi releases the GIL inside solver calls but building a solver (plugin loading, code
+# generation of derivatives) is not thread-safe: two explorer sessions building or solving
+# at once crashed the process. All builds and solves in this process take this lock.
+CASADI_LOCK = threading.RLock()
+
+
+def built_once(fn: Callable[..., T]) -> Callable[..., T]:
+    """`functools.cache` for CasADi builders, building under `CASADI_LOCK`."""
+    cached = cache(fn)
+
+    @wraps(fn)
+    def wrapper(*args: Any, **kwargs: Any) -> T:
+        with CASADI_LOCK:
+            return cached(*args, **kwargs)
+
+    return wrapper
 SNAPSHOT_ITERATIONS = frozenset({0, 1, 2, 3, 5, 8, 13, 21, 34, 55, 89})
 
 _IPOPT_COMMON = {
@@ -122,6 +141,10 @@ class NLP:
     ) -> None:
         """`ipopt_options` are added to (and override) the common IPOPT settings, e.g.
         {"ipopt.mu_strategy": "adaptive"} for a problem that needs it."""
+        with CASADI_LOCK:
+            self._build(x, f, g, p, backend, name, ipopt_options)
+
+    def _build(self, x, f, g, p, backend: str, name: str, ipopt_options: dict | None) -> None:
         if backend not in BACKENDS:
             raise ValueError(f"unknown NLP back end '{backend}' (back ends: {', '.join(BACKENDS)})")
         self.backend = backend
@@ -134,7 +157,7 @@ class NLP:
         self._hook = _IterationHook(f"{name}_hook", self.n_x, self.n_g, self.n_p)
         self._solvers: dict[bool, ca.Function] = {}
         self._penalty_parts: ca.Function | None = None
-        self._lock = threading.Lock()
+        self._lock = CASADI_LOCK
 
     def _solver(self, warm: bool) -> ca.Function:
         key = warm and self.backend == "ipopt"
@@ -191,10 +214,6 @@ class NLP:
             finally:
                 self._hook.handler = None
             stats = solver.stats()
-        if not warm and self.backend == "ipopt" and True not in self._solvers:
-            # The first slider move would otherwise pay for building the warm-start
-            # solver (up to ~1 s on the larger NLPs): build it now, off the caller's path.
-            threading.Thread(target=self._prepare_warm, daemon=True).start()
         if stop_reason:
             raise stop_reason[0]
         x = np.asarray(out["x"]).ravel()
@@ -216,10 +235,6 @@ class NLP:
             history=history,
         )
 
-
-    def _prepare_warm(self) -> None:
-        with self._lock:
-            self._solver(True)
 
     def _solve_penalty(self, x0, p, lbx, ubx, lbg, ubg, ctx) -> NLPResult:
         """The exterior penalty method (paper 000, eq. 12) on the same NLP."""

@@ -7,8 +7,7 @@ slider move re-solves the built NLP warm.
 
 from __future__ import annotations
 
-from functools import cache
-
+from ..nlp.casadi_nlp import built_once
 from ..ocp import OCP
 from .direct import DirectTranscription
 from .hermite_simpson import HermiteSimpson
@@ -22,7 +21,7 @@ TRANSCRIPTIONS: dict[str, type[DirectTranscription]] = {
 }
 
 
-@cache
+@built_once
 def direct_transcription(
     kind: str, ocp: OCP, n_intervals: int, backend: str = "ipopt", **options: int
 ) -> DirectTranscription:

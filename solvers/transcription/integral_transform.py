@@ -19,13 +19,13 @@ gradients are CasADi Functions built once per (N, steps per segment) and cached.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from functools import lru_cache
 
 import casadi as ca
 import numpy as np
 
 from ..dynamics.lunar import MU_MOON, R_MOON
 from ..mission import SolveContext
+from ..nlp.casadi_nlp import built_once
 from ..nlp.multiplier_method import solve_multiplier_method
 
 # Scaling of the NLP seen by the multiplier method: tf in units of T_SCALE, the altitude miss
@@ -90,7 +90,7 @@ def _transformed_rhs(varpi, y, psi, p):
     return dy, rate
 
 
-@lru_cache(maxsize=1)
+@built_once
 def _step_functions() -> tuple[ca.Function, ca.Function, ca.Function]:
     """SX Functions of one right-hand side, one RK4 step and one ABM4-PECE step; calling them
     on SX arguments inlines them, so the whole graph is built with few Python calls."""
@@ -155,7 +155,7 @@ def _integrate(z, p, n_segments: int, steps: int):
     return ca.horzcat(*ys), psi_dense, rate_min
 
 
-@lru_cache(maxsize=16)
+@built_once
 def build_functions(n_segments: int, steps: int = STEPS_PER_SEGMENT) -> dict[str, ca.Function]:
     """CasADi Functions of (psi nodes (N+1), p = (r0, omega0, m0, F, c, mu, R)):
 

@@ -24,7 +24,6 @@ interface is SI with dates as MJD TDB.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from functools import cache
 
 import casadi as ca
 import numpy as np
@@ -41,7 +40,7 @@ from ..dynamics.ephemeris import (
     mjd_from_iso,
 )
 from ..mission import SolveContext
-from ..nlp.casadi_nlp import NLP, status_of
+from ..nlp.casadi_nlp import NLP, built_once, status_of
 
 G0 = 9.80665
 ACC = AU / TU**2  # m/s², canonical acceleration unit
@@ -166,7 +165,7 @@ def kepler_state(p: ca.SX, t: ca.SX) -> ca.SX:
     return ca.vertcat(xp * P + yp * Q, vxp * P + vyp * Q)
 
 
-@cache
+@built_once
 def earth_spline() -> ca.Function:
     """CasADi B-spline of Earth's canonical state over the launch-date range (daily epv00)."""
     mjd = np.arange(EPHEMERIS_FIRST - 3, EPHEMERIS_LAST + 4, 1.0)
@@ -286,7 +285,7 @@ class LowThrustTranscription:
                     v_inf=np.asarray(vinf) * VU)
 
 
-@cache
+@built_once
 def transcription(n_segments: int, backend: str = "ipopt") -> LowThrustTranscription:
     """The cached NLP for a segment count and back end."""
     return LowThrustTranscription(n_segments, backend)
