@@ -117,8 +117,7 @@ def test_capture_cli_draws_the_lunar_landing(tmp_path):
     _check_shot(out, "lunar-landing", shot)
 
 
-@pytest.mark.slow  # about 45 s: one solve and settled frame per mission
-def test_capture_all_draws_every_mission(tmp_path):
+def test_capture_all_draws_every_mission(tmp_path):  # about 45 s: every mission drawn
     """`python -m explorer.capture --all` writes one solved, drawn frame per mission."""
     from explorer.capture import main
     from solvers import list_missions
