@@ -47,16 +47,30 @@ def repropagate(
     def rhs(t: float, x: np.ndarray) -> np.ndarray:
         return np.asarray(flat.call([np.concatenate([x, control(t, x), p])])[0]).ravel()
 
-    ts, xs = [float(breakpoints[0])], [np.asarray(x0, float)]
-    x = np.asarray(x0, float)
+    return integrate_piecewise(rhs, x0, breakpoints, RTOL, atol, samples_per_piece)
+
+
+def integrate_piecewise(
+    rhs: Callable[[float, np.ndarray], np.ndarray],
+    y0: np.ndarray,
+    breakpoints: np.ndarray,
+    rtol: float,
+    atol: np.ndarray | float,
+    samples_per_piece: int = 0,
+) -> tuple[np.ndarray, np.ndarray]:
+    """DOP853 from breakpoints[0] to breakpoints[-1], restarted at every breakpoint (where a
+    piecewise control has kinks, so no step straddles one). Returns (t, Y) at the
+    breakpoints, or `samples_per_piece` more samples inside each piece."""
+    ts, ys = [float(breakpoints[0])], [np.asarray(y0, float)]
+    y = np.asarray(y0, float)
     for t0, t1 in zip(breakpoints[:-1], breakpoints[1:], strict=True):
         if t1 <= t0:
             continue
         t_eval = np.linspace(t0, t1, samples_per_piece + 2)[1:] if samples_per_piece else [t1]
-        sol = solve_ivp(rhs, (t0, t1), x, method="DOP853", rtol=RTOL, atol=atol, t_eval=t_eval)
+        sol = solve_ivp(rhs, (t0, t1), y, method="DOP853", rtol=rtol, atol=atol, t_eval=t_eval)
         if not sol.success:
-            raise RuntimeError(f"re-propagation failed at t = {sol.t[-1]:.6g} s: {sol.message}")
+            raise RuntimeError(f"propagation failed at t = {sol.t[-1]:.6g} s: {sol.message}")
         ts.extend(sol.t)
-        xs.extend(sol.y.T)
-        x = sol.y[:, -1]
-    return np.asarray(ts), np.vstack(xs)
+        ys.extend(sol.y.T)
+        y = sol.y[:, -1]
+    return np.asarray(ts), np.vstack(ys)

@@ -12,7 +12,8 @@ from __future__ import annotations
 from collections.abc import Callable
 
 import numpy as np
-from scipy.integrate import solve_ivp
+
+from ..verify import integrate_piecewise
 
 Control = Callable[[float], np.ndarray]
 
@@ -128,21 +129,10 @@ def propagate_relative(
         return np.concatenate([v, a_t, dd, a_rel])
 
     r_c, v_c = lvlh_to_inertial(r_t0, v_t0, rel0)
-    y = np.concatenate([r_t0, v_t0, r_c - r_t0, v_c - v_t0])
-    ts, ys = [float(breakpoints[0])], [y]
-    for t0, t1 in zip(breakpoints[:-1], breakpoints[1:], strict=True):
-        if t1 <= t0:
-            continue
-        t_eval = np.linspace(t0, t1, samples_per_piece + 2)[1:] if samples_per_piece else [t1]
-        sol = solve_ivp(rhs, (t0, t1), y, method="DOP853", rtol=rtol, atol=atol, t_eval=t_eval)
-        if not sol.success:
-            raise RuntimeError(f"two-body propagation failed at t = {sol.t[-1]:.6g} s")
-        ts.extend(sol.t)
-        ys.extend(sol.y.T)
-        y = sol.y[:, -1]
-    Y = np.vstack(ys)
+    y0 = np.concatenate([r_t0, v_t0, r_c - r_t0, v_c - v_t0])
+    ts, Y = integrate_piecewise(rhs, y0, breakpoints, rtol, atol, samples_per_piece)
     rel = np.array([
         inertial_to_lvlh(row[:3], row[3:6], row[:3] + row[6:9], row[3:6] + row[9:])
         for row in Y
     ])
-    return np.asarray(ts), rel, Y[:, :3]
+    return ts, rel, Y[:, :3]
