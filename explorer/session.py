@@ -274,9 +274,7 @@ class Session:
         try:
             sol = self._solve(request, request.method, request.nodes, request.backend)
         except ValueError as exc:
-            if not self._stale(request):
-                self.error = str(exc)
-                self._emit("on_error", request, str(exc))
+            self._reject(request, exc)
             return
         if self._stale(request):
             return
@@ -291,6 +289,12 @@ class Session:
         if not self._stale(request):
             self._emit("on_check", request, sol)
 
+    def _reject(self, request: Request, exc: ValueError) -> None:
+        """Bad input: say why (unless a newer request already replaced this one)."""
+        if not self._stale(request):
+            self.error = str(exc)
+            self._emit("on_error", request, str(exc))
+
     def _run_compare(self, request: Request) -> None:
         """Solve every method of the comparison in turn, then run their checks."""
         solutions = []
@@ -299,9 +303,7 @@ class Session:
             try:
                 sol = self._solve(request, key, nodes, backend, label=f"comparing: {key}")
             except ValueError as exc:
-                if not self._stale(request):
-                    self.error = str(exc)
-                    self._emit("on_error", request, str(exc))
+                self._reject(request, exc)
                 return
             if self._stale(request):
                 return

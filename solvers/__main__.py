@@ -14,7 +14,6 @@ from collections.abc import Sequence
 
 from .mission import Mission
 from .registry import get_mission, list_missions
-from .solution import Solution
 
 EXIT_BAD_INPUT = 2
 EXIT_NOT_OPTIMAL = 1
@@ -141,12 +140,6 @@ def _cmd_params(mission: Mission) -> str:
     return "\n".join(lines)
 
 
-def _result_dict(sol: Solution) -> dict:
-    out = sol.to_dict()
-    out["quantities"] = {k: q.value for k, q in sol.quantities.items()}
-    return out
-
-
 def _cmd_solve(args: argparse.Namespace) -> int:
     mission = get_mission(args.mission)
     values = parse_assignments(args.set)
@@ -156,7 +149,7 @@ def _cmd_solve(args: argparse.Namespace) -> int:
         with open(args.csv, "w", encoding="utf-8") as fh:
             fh.write(sol.to_csv())
     if args.json:
-        print(json.dumps(_result_dict(sol), allow_nan=False))
+        print(sol.to_json())
     else:
         label = mission.method(sol.method).nodes_label
         print(f"{mission.key} / {sol.method} ({sol.nodes} {label})")

@@ -20,6 +20,8 @@ from dataclasses import dataclass, field
 import casadi as ca
 import numpy as np
 
+from .solution import Solution
+
 Expr = ca.SX
 
 
@@ -140,6 +142,14 @@ class OCPResult:
     history: list[tuple[int, np.ndarray, np.ndarray]]
     warm: WarmStart
     control_interpolation: str = "linear"
+
+    def record_nlp(self, sol: Solution) -> None:
+        """Put this solve's NLP statistics, warm start and own defect into `sol`."""
+        sol.stats.update(iterations=self.iterations, nlp_variables=self.n_variables,
+                         nlp_constraints=self.n_constraints,
+                         constraint_violation=self.max_violation)
+        sol.warm = self.warm
+        sol.check["max_defect"] = self.max_violation
 
     def control(self, t: float, x: np.ndarray | None = None) -> np.ndarray:
         """The control between nodes exactly as the transcription defines it: piecewise

@@ -74,10 +74,7 @@ def solve_summary(mission_key: str, values: Mapping[str, float], method: str | N
     """Solve one request and return its JSON-ready summary (the work unit of mission sweeps)."""
     from .registry import get_mission
 
-    sol = get_mission(mission_key).solve(dict(values), method=method, nodes=nodes)
-    out = sol.to_dict()
-    out["quantities"] = {k: q.value for k, q in sol.quantities.items()}
-    return out
+    return get_mission(mission_key).solve(dict(values), method=method, nodes=nodes).to_dict()
 
 
 def mission_grid(

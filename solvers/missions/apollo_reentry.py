@@ -261,14 +261,7 @@ class ApolloReentry(Mission):
         start = warm.warm if warm is not None and warm.ok else None
         res = transcription.solve(p, start, ctx)
         sol = self._record(values, method.key, nodes, backend, res)
-        sol.stats.update(
-            iterations=res.iterations,
-            nlp_variables=res.n_variables,
-            nlp_constraints=res.n_constraints,
-            constraint_violation=res.max_violation,
-        )
-        sol.warm = res.warm
-        sol.check["max_defect"] = res.max_violation
+        res.record_nlp(sol)
         if res.status == "optimal":
             sol.checker = lambda: _check(p, method.key, res)
         return sol

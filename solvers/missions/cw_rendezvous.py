@@ -226,13 +226,9 @@ class CWRendezvous(Mission):
         sol = self._record(values, method.key, nodes, backend, p, res.status, message,
                            res.t_nodes, res.X, acc, res.t_dense, res.X_dense, res.U_dense[:, :3],
                            arcs, res.cost)
-        sol.stats.update(iterations=res.iterations, nlp_variables=res.n_variables,
-                         nlp_constraints=res.n_constraints,
-                         constraint_violation=res.max_violation)
+        res.record_nlp(sol)
         sol.history = [{"iteration": k, "positions": self._positions(values, p, t, X)}
                        for k, t, X in res.history]
-        sol.warm = res.warm
-        sol.check["max_defect"] = res.max_violation
         sol.checker = lambda: self._check(p, res.t_nodes, lambda t, x: res.control(t, x)[:3])
         return sol
 

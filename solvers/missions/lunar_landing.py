@@ -236,14 +236,7 @@ class LunarLanding(Mission):
         sol = self._record(values, method.key, nodes, backend, p, res.status, res.message,
                            res.t_nodes, res.X, res.U[:, 0], res.t_dense, res.X_dense,
                            res.U_dense[:, 0], res.history)
-        sol.stats.update(
-            iterations=res.iterations,
-            nlp_variables=res.n_variables,
-            nlp_constraints=res.n_constraints,
-            constraint_violation=res.max_violation,
-        )
-        sol.warm = res.warm
-        sol.check["max_defect"] = res.max_violation
+        res.record_nlp(sol)
         sol.checker = lambda: self._check(p, res.t_nodes, res.control)
         return sol
 
