@@ -14,6 +14,7 @@ guesses may follow the sliders without rebuilding the NLP.
 
 from __future__ import annotations
 
+import weakref
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -97,11 +98,13 @@ class OCPFunctions:
     fixed_T: ca.Function | None
 
 
-_FUNCTION_CACHE: dict[int, OCPFunctions] = {}
+# Keyed by the OCP object itself, weakly: an id() key was reused by a later OCP of another
+# size after the first was garbage collected, handing it the wrong functions.
+_FUNCTION_CACHE: weakref.WeakKeyDictionary[OCP, OCPFunctions] = weakref.WeakKeyDictionary()
 
 
 def _functions(ocp: OCP) -> OCPFunctions:
-    key = id(ocp)
+    key = ocp
     if key not in _FUNCTION_CACHE:
         x = ca.SX.sym("x", ocp.nx)
         u = ca.SX.sym("u", ocp.nu)

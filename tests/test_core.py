@@ -202,3 +202,25 @@ def test_concurrent_builds_and_solves_are_safe():
     assert all(s.ok for s in sols), [s.message for s in sols]
     tfs = [s.quantities["tf"].value for s in sols[:4]]
     assert max(tfs) - min(tfs) < 1e-3  # the same optimum whatever ran alongside
+
+
+def test_ocp_functions_follow_the_object_not_a_recycled_id():
+    """A garbage-collected OCP's functions must never be served to a new OCP (an id()-keyed
+    cache did that when CPython reused the address)."""
+    import gc
+
+    for _ in range(50):
+        small = _double_integrator(True)
+        assert small.functions().f.size1_in(0) == 2
+        del small
+        gc.collect()
+        big = OCP(
+            states=("a", "b", "c"), controls=("u",), n_params=1,
+            dynamics=lambda x, u, p: ca.vertcat(x[1], x[2], u[0]),
+            initial_state=lambda p: ca.vertcat(0, 0, 0),
+            terminal=lambda xf, p: xf, bounds=None, guess=None,
+            x_scale=np.ones(3), u_scale=np.ones(1), T_scale=1.0, terminal_scale=np.ones(3),
+        )
+        assert big.functions().f.size1_in(0) == 3
+        del big
+        gc.collect()
