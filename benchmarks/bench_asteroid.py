@@ -16,8 +16,8 @@ import time
 
 import solvers
 from solvers.dynamics.ephemeris import KAMOOALEWA_B, MJD_2022, iso_from_mjd, mjd_from_iso
-from solvers.launch_map import compute_launch_map, windows
-from solvers.missions.asteroid_guess import KINDS, Window, pso_search
+from solvers.missions.asteroid_rendezvous.guess import KINDS, Window, pso_search
+from solvers.missions.asteroid_rendezvous.launch_map import compute_launch_map, windows
 
 TARGETS = {"map": 5.0, "pso": 2.0, "cold": 3.0, "warm": 1.0}
 

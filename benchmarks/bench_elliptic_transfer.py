@@ -14,14 +14,14 @@ import argparse
 import statistics
 import time
 
-from solvers.missions import elliptic_transfer as et
+from solvers.missions.elliptic_transfer import laws, methods, model
 from solvers.registry import get_mission
 
 
 def _clear_caches() -> None:
-    et.plan.cache_clear()
-    et._lgl_nlp.cache_clear()
-    et._gramian.cache_clear()
+    laws.plan.cache_clear()
+    methods.lgl_nlp.cache_clear()
+    model._gramian.cache_clear()
 
 
 def bench(method: str, nodes: int, repeat: int) -> dict[str, float]:

@@ -19,8 +19,8 @@ import time
 import numpy as np
 
 import solvers
-from solvers.indirect.hovercraft import cold_guess, solve_min_time
 from solvers.missions.apollo_reentry import indirect_solution
+from solvers.missions.hovercraft.model import cold_guess, solve_min_time
 
 LIVE = {"hovercraft": "accel", "apollo-reentry": "v0"}
 

@@ -5,6 +5,7 @@ tab: the teacher drives, the room watches)."""
 from __future__ import annotations
 
 import argparse
+import math
 import time
 
 from .app import ExplorerApp
@@ -25,10 +26,17 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--time-limit", type=float, default=DEFAULT_TIME_LIMIT,
                         help=f"seconds before a solve is stopped (default {DEFAULT_TIME_LIMIT:g}; "
                              "0: no limit; also settable in the GUI)")
+    parser.add_argument("--workers", type=int,
+                        help="solve processes (default: one per core); every solve runs in one")
     args = parser.parse_args(argv)
+    if args.workers is not None and args.workers < 1:
+        parser.error("--workers must be at least 1")
+    if not math.isfinite(args.time_limit) or args.time_limit < 0:
+        parser.error(f"--time-limit must be a number of seconds >= 0, not {args.time_limit}")
     try:
         app = ExplorerApp(args.host, args.port, args.mission, args.method, args.nodes,
-                          shared=args.shared, time_limit=args.time_limit or None)
+                          shared=args.shared, time_limit=args.time_limit or None,
+                          workers=args.workers)
     except ValueError as exc:
         parser.error(str(exc))
     mode = "one shared session" if args.shared else "one session per tab"

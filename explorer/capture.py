@@ -21,8 +21,9 @@ from pathlib import Path
 import numpy as np
 from playwright.sync_api import BrowserContext, Page, sync_playwright
 
-from .app import ExplorerApp, View
+from .app import ExplorerApp
 from .session import DEFAULT_TIME_LIMIT
+from .view import View
 
 CAPTURE_TIME_LIMIT = 120.0  # s: a screenshot waits for the solution, however slow
 CHROMIUM = "/usr/bin/chromium"

@@ -23,12 +23,15 @@ import plotly.graph_objects as go
 
 from solvers import get_mission
 from solvers.mission import Mission
+from solvers.presentation import Presentation
 from solvers.problem import Preset
 from solvers.solution import Solution
 
-from .animation import PLAY_SECONDS, Track
+from .camera import FOV, fit_camera
+from .geometry import build_geometry
+from .player import PLAY_SECONDS, Track
 from .plots import figure_aspect, make_figure
-from .scene import FOV, SceneView, build_geometry, fit_camera
+from .scene import SceneView
 
 EXPORT_FPS = 12  # frames per second of the recorded vehicle animation
 PLOT_WIDTH = 1200  # px of the exported plot image
@@ -47,10 +50,14 @@ def file_stem(sol: Solution) -> str:
     return f"{sol.mission}-{sol.method}-{sol.nodes}"
 
 
-def solution_figure(sol: Solution) -> go.Figure:
-    """The plot panel's figure on a light background (for printing and slides)."""
-    fig = make_figure(sol.plots, dark=False)
-    fig.update_layout(paper_bgcolor="white")
+def solution_figure(sol: Solution, pres: Presentation) -> go.Figure:
+    """The plot panel's figure on a light background, titled with the case (for printing
+    and slides)."""
+    fig = make_figure(pres.plots, dark=False, time_unit=pres.time_unit,
+                      time_scale=pres.time_scale)
+    title = f"{sol.mission}: {sol.method}, {sol.nodes} nodes — {sol.summary()}"
+    fig.update_layout(paper_bgcolor="white", title={"text": title, "font": {"size": 12}},
+                      margin={"t": 60})
     return fig
 
 
@@ -91,7 +98,8 @@ def _free_port() -> int:
         return int(s.getsockname()[1])
 
 
-def scene_html(sol: Solution, aspect: float = 16 / 9, dark: bool = True) -> str:
+def scene_html(sol: Solution, pres: Presentation, aspect: float = 16 / 9,
+               dark: bool = True) -> str:
     """A self-contained HTML file of the solution's 3D scene with the vehicle flying the
     trajectory once (PLAY_SECONDS long), recorded from a server that has no GUI at all (so
     no plotly.js is embedded)."""
@@ -100,7 +108,7 @@ def scene_html(sol: Solution, aspect: float = 16 / 9, dark: bool = True) -> str:
     server = viser.ViserServer(host="127.0.0.1", port=_free_port(), verbose=False)
     try:
         view = SceneView(server.scene, dark=dark)
-        g = build_geometry(sol)
+        g = build_geometry(pres, sol.t, sol.arcs)
         view.draw(g)
         cam = fit_camera(g, aspect)
         server.initial_camera.fov = FOV
@@ -108,8 +116,8 @@ def scene_html(sol: Solution, aspect: float = 16 / 9, dark: bool = True) -> str:
         server.initial_camera.up = tuple(cam.up)
         server.initial_camera.position = tuple(cam.position)
         server.initial_camera.look_at = tuple(cam.look_at)
-        track = Track(sol)
-        view.set_vehicle(sol.mission, g.extent)
+        track = Track(sol, pres)
+        view.set_vehicle(pres.vehicle, g.extent)
         view.move_vehicle(track.pose(track.t0))
         view.move_bodies(track.t0)
         serializer = server.get_scene_serializer()
@@ -137,9 +145,11 @@ def classroom_export(out: Path, mission_key: str, preset: str | None = None,
     """Solve one case and write the offline folder; returns the files written."""
     mission = get_mission(mission_key)
     values: dict[str, float] = {}
+    preset_view: dict[str, float] = {}
     if preset is not None:
         p = preset_by_name(mission, preset)
         values, method, nodes = dict(p.values), method or p.method, nodes or p.nodes
+        preset_view = dict(p.view)
     sol = mission.solve(values, method, nodes)
     if not sol.has_trajectory:
         raise RuntimeError(f"{mission_key}: {sol.status}: {sol.message}")
@@ -152,13 +162,14 @@ def classroom_export(out: Path, mission_key: str, preset: str | None = None,
         written.append(path)
 
     title = f"{mission.title}: {mission.method(sol.method).label}, {sol.nodes} nodes"
-    write("scene.html", scene_html(sol))
-    fig = solution_figure(sol)
+    pres = mission.present(sol, preset_view)
+    write("scene.html", scene_html(sol, pres))
+    fig = solution_figure(sol, pres)
     fig.update_layout(title={"text": title, "font": {"size": 14}})
     write("plots.html", plots_html(fig, title))
     png_note = "plots.png: the same plots as an image"
     try:
-        write("plots.png", plots_png(fig, len(sol.plots)))
+        write("plots.png", plots_png(fig, len(pres.plots)))
     except RuntimeError as exc:
         png_note = f"no plots.png: {exc}"
     write("solution.json", solution_json(sol))

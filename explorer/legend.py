@@ -1,13 +1,13 @@
 """The legend under the status line: what the colours in the 3D view mean (burn/coast arcs
-or the colour bar of `Solution.color_by`, nodes, thrust arrows, a dimmed or failed
-trajectory, a comparison's methods)."""
+or the colour bar of `Presentation.color_by`, nodes, thrust arrows, every reference curve
+(dashed ones dashed) and body, a dimmed or failed trajectory, a comparison's methods)."""
 
 from __future__ import annotations
 
 import html
 from collections.abc import Sequence
 
-from .scene import ARROW, BURN, COAST, NODE, WARNING, ColorBar, Geometry, colorbar_css
+from .geometry import ARROW, BURN, COAST, NODE, WARNING, ColorBar, Geometry, colorbar_css
 
 STYLE = ("<style>.lg{font-size:0.78em;line-height:1.5}.lg span.sw{display:inline-block;"
          "width:14px;height:4px;margin:0 4px 2px 0;vertical-align:middle;border-radius:1px}"
@@ -15,8 +15,14 @@ STYLE = ("<style>.lg{font-size:0.78em;line-height:1.5}.lg span.sw{display:inline
          "margin:2px 0}.lg .ends{display:flex;justify-content:space-between}</style>")
 
 
-def _item(rgb: Sequence[int], label: str, dot: bool = False) -> str:
+def _item(rgb: Sequence[int], label: str, dot: bool = False, dashed: bool = False) -> str:
     shape = "width:7px;height:7px;border-radius:50%" if dot else ""
+    if dashed:
+        color = f"rgb{tuple(rgb)}"
+        shape = (f"background:repeating-linear-gradient(to right,{color} 0 3px,"
+                 "transparent 3px 5px)")
+        return (f'<span class="it"><span class="sw" style="{shape}"></span>'
+                f"{html.escape(label)}</span>")
     return (f'<span class="it"><span class="sw" style="background:rgb{tuple(rgb)};{shape}">'
             f"</span>{html.escape(label)}</span>")
 
@@ -51,4 +57,6 @@ def legend_html(g: Geometry, dim: bool = False, failed: bool = False,
         items.append(_item(NODE, "nodes", dot=True))
     if len(g.arrows) and not comparison:
         items.append(_item(ARROW, "thrust direction"))
+    items += [_item(color, name, dashed=dashed) for name, color, dashed in g.curve_names]
+    items += [_item(s.color, s.name, dot=True) for s in g.spheres]
     return f'{STYLE}<div class="lg">{"".join(items)}</div>'

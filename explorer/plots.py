@@ -13,7 +13,7 @@ import numpy as np
 import plotly.graph_objects as go
 import plotly.io as pio
 
-from solvers.solution import GridMap, PlotSeries
+from solvers.presentation import GridMap, PlotSeries
 
 GROUP_COLORS = {"state": "#00c8ff", "control": "#ff8c00"}
 OTHER_COLOR = "#b0e060"
@@ -40,10 +40,11 @@ def _rgb(c: tuple[int, int, int]) -> str:
 
 
 def make_figure(series: Sequence[PlotSeries], dim: bool = False, dark: bool = True,
-                overlays: Sequence[Overlay] = ()) -> go.Figure:
-    """Subplots of `series` (dense line + node markers); `dim` greys a stale result;
-    `overlays` (a comparison) draw other solutions' series of the same titles in their own
-    colours, with a legend.
+                overlays: Sequence[Overlay] = (), time_unit: str = "s",
+                time_scale: float = 1.0) -> go.Figure:
+    """Subplots of `series` (dense line + node markers) against time shown in `time_unit`
+    (seconds x `time_scale`); `dim` greys a stale result; `overlays` (a comparison) draw other
+    solutions' series of the same titles in their own colours, with a legend.
 
     Built as plain plotly JSON (axes laid out here, no `make_subplots`, no validation):
     plotly's validating constructors cost ~25 ms per subplot, far too slow for a figure
@@ -56,7 +57,8 @@ def make_figure(series: Sequence[PlotSeries], dim: bool = False, dark: bool = Tr
     data: list[dict] = []
 
     def line(s: PlotSeries, i: int, **style) -> dict:
-        return {"type": "scatter", "x": np.asarray(s.t), "y": np.asarray(s.y), "mode": "lines",
+        return {"type": "scatter", "x": time_scale * np.asarray(s.t), "y": np.asarray(s.y),
+                "mode": "lines",
                 "xaxis": _axis("x", i), "yaxis": _axis("y", i), **style}
 
     for s in series:
@@ -65,7 +67,7 @@ def make_figure(series: Sequence[PlotSeries], dim: bool = False, dark: bool = Tr
         data.append(line(s, i, line={"color": color, "width": 2}, name=s.title,
                          showlegend=False, hoverinfo="x+y"))
         if s.t_nodes is not None and s.y_nodes is not None:
-            data.append({"type": "scatter", "x": np.asarray(s.t_nodes),
+            data.append({"type": "scatter", "x": time_scale * np.asarray(s.t_nodes),
                          "y": np.asarray(s.y_nodes), "mode": "markers",
                          "xaxis": _axis("x", i), "yaxis": _axis("y", i),
                          "name": f"{s.title} nodes", "showlegend": False,
@@ -94,7 +96,7 @@ def make_figure(series: Sequence[PlotSeries], dim: bool = False, dark: bool = Tr
         y1 = 1.0 - row * (height + v_gap)
         xaxis = {"domain": _unit_interval(x0, x0 + width), "anchor": _axis("y", i)}
         if i + columns >= n:  # bottom subplot of its column
-            xaxis["title"] = {"text": "t [s]", "standoff": 2}
+            xaxis["title"] = {"text": f"t [{time_unit}]", "standoff": 2}
         layout[_axis("xaxis", i)] = xaxis
         layout[_axis("yaxis", i)] = {"domain": _unit_interval(y1 - height, y1),
                                      "anchor": _axis("x", i)}

@@ -1,12 +1,14 @@
-"""One browser's state (mission, method, values, last solution) and its solve worker.
+"""One browser's state (mission, method, values, view options, last solution) and its
+newest-request-wins queue.
 
-The session knows nothing about viser: views subscribe as `SessionListener`s, so one
-session can drive one browser tab (the default) or several (a future `--shared` mode), and
-tests can drive it without a browser. Requests are solved on one worker thread per session;
-the newest request wins: submitting cancels the running solve through its `cancel` event
-and replaces any request still waiting. A request is either one solve of the current state
-or a method comparison (every chosen method on the same values). Each solve gets the
-session's `time_limit`, so no request can hold the worker for long.
+The session knows nothing about viser: views subscribe as `SessionListener`s, so one session
+can drive one browser tab (the default) or every tab (`--shared`), and tests can drive it
+without a browser. Requests are handed to a `Runner` (the solve service's worker processes in
+the app) from one thread per session; submitting cancels the running solve and replaces any
+request still waiting. A request is one solve of the current state (warm from the last good
+solution, or `cold` from the method's initial guess) or a comparison of several methods on
+the same values. View options (frame, magnification...) never trigger a solve: the view
+redraws from the solution it has.
 """
 
 from __future__ import annotations
@@ -23,6 +25,11 @@ from solvers.mission import Mission
 from solvers.problem import Preset
 from solvers.solution import Solution
 
+from .runners import LocalRunner, Runner, Solve
+
+DEFAULT_TIME_LIMIT = 5.0  # s per solve: a slider move never hangs the session
+COLD_FACTOR = 3.0  # a cold solve (no warm start of that method: it may also build the NLP)
+
 
 @dataclass(frozen=True)
 class Request:
@@ -36,16 +43,20 @@ class Request:
     values: dict[str, float]
     time_limit: float | None = None
     compare: tuple[tuple[str, int], ...] = ()  # (method, nodes) pairs of a comparison
+    cold: bool = False
     cancel: threading.Event = field(default_factory=threading.Event, compare=False)
     started: float = field(default_factory=time.monotonic, compare=False)
 
 
 class SessionListener(Protocol):
-    """What a view hears from its session; every call comes from the worker thread,
-    except `on_config`, which comes from whoever changed the configuration."""
+    """What a view hears from its session; every call comes from the session's thread,
+    except `on_config` and `on_view`, which come from whoever changed the state."""
 
     def on_config(self, session: Session) -> None:
         """Mission, method or preset changed: rebuild the controls."""
+
+    def on_view(self, session: Session) -> None:
+        """A view option changed: redraw the solution on screen (no solve)."""
 
     def on_submit(self, request: Request) -> None:
         """A request was queued (it supersedes every older one)."""
@@ -66,23 +77,24 @@ class SessionListener(Protocol):
         """A comparison finished: one solution per method, checks already run."""
 
 
-DEFAULT_TIME_LIMIT = 5.0  # s per solve: a slider move never hangs the session
-COLD_FACTOR = 3.0  # a cold solve (no warm start of that method: it also builds the NLP)
-
-
 class Session:
-    """Mission/method/node/value state of one view plus a newest-request-wins solver.
+    """Mission/method/node/value/view state of one view plus a newest-request-wins solver.
 
     `auto=True` submits a solve after every change (the live explorer); with `auto=False`
     call `submit()` yourself. `last_good` is the newest optimal solution: the warm start of
     the next solve and what the view keeps on screen when a request fails.
     """
 
+    _ids = itertools.count(1)
+
     def __init__(self, mission: Mission, *, method: str | None = None,
                  nodes: int | None = None, auto: bool = True,
-                 time_limit: float | None = DEFAULT_TIME_LIMIT) -> None:
+                 time_limit: float | None = DEFAULT_TIME_LIMIT,
+                 runner: Runner | None = None) -> None:
+        self.id = f"session-{next(Session._ids)}"
         self.auto = auto
         self.time_limit = time_limit
+        self.runner: Runner = runner or LocalRunner()
         self.listeners: list[SessionListener] = []
         self.last_good: Solution | None = None
         self.latest: Solution | None = None
@@ -96,7 +108,8 @@ class Session:
         self._delivered = 0
         self._closed = False
         self._configure(mission, method, nodes, {})
-        self._worker = threading.Thread(target=self._work, name="explorer-solve", daemon=True)
+        self.view = mission.view_defaults()
+        self._worker = threading.Thread(target=self._work, name="explorer-session", daemon=True)
         self._worker.start()
 
     # ---- configuration ----------------------------------------------------------------
@@ -111,24 +124,28 @@ class Session:
         self.values = known | {k: float(v) for k, v in values.items() if k in known}
 
     def _emit(self, event: str, *args: object) -> None:
-        """Call every listener; a failing view is logged and never stops the worker."""
+        """Call every listener; a failing view is logged and never stops the session."""
         for listener in list(self.listeners):
+            handler = getattr(listener, event, None)
+            if handler is None:
+                continue
             try:
-                getattr(listener, event)(*args)
+                handler(*args)
             except Exception:  # noqa: BLE001 - one broken view must not break the session
                 traceback.print_exc()
 
-    def _changed(self, config: bool) -> None:
+    def _changed(self, config: bool, cold: bool = False) -> None:
         if config:
             self._emit("on_config", self)
         if self.auto:
-            self.submit()
+            self.submit(cold=cold)
 
     def select_mission(self, mission: Mission) -> None:
-        """Switch mission: its first method, default nodes and values."""
+        """Switch mission: its first method, default nodes, values and view options."""
         self.preset = None
         self.last_good = self.latest = None
         self._configure(mission, None, None, {})
+        self.view = mission.view_defaults()
         self._changed(config=True)
 
     def select_method(self, key: str) -> None:
@@ -139,10 +156,23 @@ class Session:
         self._changed(config=True)
 
     def apply_preset(self, preset: Preset) -> None:
-        """Defaults overridden by the preset's values (and its method/node count)."""
+        """Defaults overridden by the preset's values (and its method, node count and view
+        options); a preset about guesses solves cold."""
         self.preset = preset.name
         self._configure(self.mission, preset.method or self.method, preset.nodes,
                         dict(preset.values))
+        self.view = self.mission.view_defaults() | {k: float(v) for k, v in preset.view.items()}
+        self._changed(config=True, cold=preset.cold)
+
+    def restore(self, method: str, nodes: int, values: Mapping[str, float],
+                view: Mapping[str, float], backend: str | None = None) -> None:
+        """Set a whole case at once (a shared link); bad entries raise `ValueError`."""
+        vals, m, n = self.mission.validate(values, method, nodes)
+        self._configure(self.mission, m.key, n, vals)
+        if backend is not None and backend in m.backends:
+            self.backend = backend
+        self.view = self.mission.validate_view(view)
+        self.preset = None
         self._changed(config=True)
 
     def set_value(self, key: str, value: float) -> None:
@@ -153,6 +183,15 @@ class Session:
             return
         self.values[key] = float(value)
         self._changed(config=False)
+
+    def set_view(self, key: str, value: float) -> None:
+        """Change one view option: listeners redraw, nothing is solved."""
+        if key not in self.view:
+            raise KeyError(f"'{key}' is not a view option of {self.mission.key}")
+        if self.view[key] == float(value):
+            return
+        self.view = self.mission.validate_view({**self.view, key: float(value)})
+        self._emit("on_view", self)
 
     def set_nodes(self, nodes: int) -> None:
         if self.nodes == int(nodes):
@@ -171,33 +210,36 @@ class Session:
         self.time_limit = None if seconds is None or seconds <= 0 else float(seconds)
 
     # ---- solving ----------------------------------------------------------------------
-    def submit(self) -> Request:
-        """Queue a solve of the current state; cancels the running and waiting ones."""
-        return self._queue(())
+    def submit(self, cold: bool = False) -> Request:
+        """Queue a solve of the current state (`cold`: from the method's initial guess, not
+        from the last good solution); cancels the running and waiting ones."""
+        return self._queue((), cold)
 
     def compare(self, methods: Sequence[str]) -> Request:
         """Queue a comparison: every method in `methods` on the current values (the current
-        method with the current node count, the others with their default); cancels the
-        running and waiting requests like `submit`."""
+        method with the current node count, the others with their default), each from its
+        initial guess; cancels the running and waiting requests like `submit`."""
         pairs = tuple((key, self.nodes if key == self.method else self.mission.method(key).nodes[1])
                       for key in methods)
         if not pairs:
             raise ValueError("choose at least one method to compare")
-        return self._queue(pairs)
+        return self._queue(pairs, cold=True)
 
-    def request_time_limit(self, compare: bool = False) -> float | None:
+    def request_time_limit(self, compare: bool = False, cold: bool = False) -> float | None:
         """The limit of the next solve: `time_limit`, times `COLD_FACTOR` when it cannot be
-        warm-started (first solve of this mission and method, or a comparison)."""
+        warm-started (first solve of this mission and method, a cold solve or a
+        comparison)."""
         good = self.last_good
         warm = (good is not None and good.mission == self.mission.key
                 and good.method == self.method)
-        if self.time_limit is None or (warm and not compare):
+        if self.time_limit is None or (warm and not compare and not cold):
             return self.time_limit
         return COLD_FACTOR * self.time_limit
 
-    def _queue(self, compare: tuple[tuple[str, int], ...]) -> Request:
+    def _queue(self, compare: tuple[tuple[str, int], ...], cold: bool) -> Request:
         request = Request(next(self._seq), self.mission, self.method, self.nodes, self.backend,
-                          dict(self.values), self.request_time_limit(bool(compare)), compare)
+                          dict(self.values), self.request_time_limit(bool(compare), cold),
+                          compare, cold)
         with self._cond:
             if self._running is not None:
                 self._running.cancel.set()
@@ -226,13 +268,16 @@ class Session:
             return True
 
     def close(self) -> None:
-        """Stop the worker (cancelling any solve); the session cannot be used afterwards."""
+        """Stop the session's thread (cancelling any solve); the session cannot be used
+        afterwards. Listeners and solutions are dropped so a closed tab frees its memory."""
         with self._cond:
             self._closed = True
             for request in (self._running, self._pending):
                 if request is not None:
                     request.cancel.set()
             self._cond.notify_all()
+        self.listeners.clear()
+        self.last_good = self.latest = None
 
     def _stale(self, request: Request) -> bool:
         return request.cancel.is_set() or self._closed
@@ -248,6 +293,8 @@ class Session:
                 self._running = request
             try:
                 self._run(request)
+            except Exception:  # noqa: BLE001 - the session's thread must survive anything
+                traceback.print_exc()
             finally:
                 with self._cond:
                     self._running = None
@@ -255,28 +302,29 @@ class Session:
                         self._delivered = max(self._delivered, request.seq)
                     self._cond.notify_all()
 
-    def _solve(self, request: Request, method: str, nodes: int, backend: str | None,
-               label: str = "") -> Solution:
+    def _start(self, request: Request, method: str, nodes: int, backend: str | None,
+               warm: Solution | None, label: str = ""):
         def progress(iteration: int, message: str) -> None:
             if not self._stale(request):
                 self._emit("on_progress", request, iteration, label or message)
 
-        return request.mission.solve(
-            request.values, method, nodes, backend=backend, warm=self.last_good,
-            progress=progress, cancel=request.cancel, time_limit=request.time_limit,
-            verify=False,
-        )
+        solve = Solve(request.mission, method, nodes, backend, request.values, warm,
+                      request.time_limit, self.id)
+        return self.runner.start(solve, request.cancel, progress)
 
     def _run(self, request: Request) -> None:
         if request.compare:
             self._run_compare(request)
             return
+        warm = None if request.cold else self.last_good
+        pending = self._start(request, request.method, request.nodes, request.backend, warm)
         try:
-            sol = self._solve(request, request.method, request.nodes, request.backend)
+            sol = pending.result()
         except ValueError as exc:
             self._reject(request, exc)
             return
         if self._stale(request):
+            pending.cancel()
             return
         self.error = None
         self.latest = sol
@@ -284,8 +332,9 @@ class Session:
             self.last_good = sol
         self._emit("on_result", request, sol)
         if not (sol.ok and sol.has_trajectory) or self._stale(request):
+            pending.discard()
             return
-        sol.run_check()
+        pending.check()
         if not self._stale(request):
             self._emit("on_check", request, sol)
 
@@ -296,19 +345,25 @@ class Session:
             self._emit("on_error", request, str(exc))
 
     def _run_compare(self, request: Request) -> None:
-        """Solve every method of the comparison in turn, then run their checks."""
-        solutions = []
+        """Start every method of the comparison (in parallel where the runner can), then
+        collect the answers and their checks."""
+        pendings = []
         for key, nodes in request.compare:
             backend = request.backend if key == request.method else None
+            pendings.append((key, self._start(request, key, nodes, backend, None,
+                                              label=f"comparing: {key}")))
+        solutions = []
+        for _key, pending in pendings:
             try:
-                sol = self._solve(request, key, nodes, backend, label=f"comparing: {key}")
+                sol = pending.result()
             except ValueError as exc:
                 self._reject(request, exc)
                 return
             if self._stale(request):
                 return
-            if sol.ok and sol.has_trajectory:
-                sol.run_check()
-            solutions.append(sol)
+            solutions.append((sol, pending))
+        for sol, pending in solutions:
+            if sol.ok and sol.has_trajectory and not self._stale(request):
+                pending.check()
         if not self._stale(request):
-            self._emit("on_compare", request, solutions)
+            self._emit("on_compare", request, [sol for sol, _ in solutions])

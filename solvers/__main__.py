@@ -163,7 +163,7 @@ def _cmd_solve(args: argparse.Namespace) -> int:
 def main(argv: Sequence[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     if argv[:1] == ["launch-map"]:  # its own parser and options
-        from .launch_map import main as launch_map_main
+        from .missions.asteroid_rendezvous.launch_map import main as launch_map_main
 
         return launch_map_main(argv[1:])
     try:

@@ -1,21 +1,38 @@
-"""The mission contract: data (params, methods, published numbers) plus one solve call."""
+"""The mission contract: data (params, methods, published numbers, presets) plus one solve
+call and one presentation call.
+
+A mission package (`solvers/missions/<key>/`) subclasses `Mission` with its records; methods
+with a general `transcription` are solved here from the mission's `OCP` (`ocp`,
+`parameter_vector`, and the optional hooks `precheck`, `record`, `terminal_miss`), and a
+paper's own methods by the mission's `_solve`. `present` turns a numeric `Solution` into what
+the explorer draws.
+"""
 
 from __future__ import annotations
 
+import re
+import sys
 import threading
 import time
-from abc import ABC, abstractmethod
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING
 
-from .problem import Method, Param, Preset, Published, validate_values
+import numpy as np
+
+from .problem import Consistency, Method, Param, Preset, Published, validate_values
 from .solution import Quantity, Solution
+
+if TYPE_CHECKING:
+    from .ocp import OCP, OCPResult
+    from .presentation import Presentation
 
 ProgressCallback = Callable[[int, str], None]
 
 
 class Infeasible(Exception):
-    """The request has no solution (physically or by the model); the message says why."""
+    """The request has no solution (a named physical or model bound); the message says why."""
 
 
 class Cancelled(Exception):
@@ -63,24 +80,50 @@ class SolveContext:
         return time.perf_counter() - self.started
 
 
-class Mission(ABC):
-    """A mission is data plus `solve`; subclasses implement `_solve`.
+class Mission:
+    """A mission is data plus `solve` and `present`.
 
-    Class attributes: `key`, `title`, `summary`, `source` (paper), `params`, `methods`,
-    `published`, `presets`, `help` (markdown shown in the explorer).
+    Class attributes: `key`, `title`, `summary`, `source` (paper), `params` (solve inputs),
+    `view_params` (display options: changing one redraws without re-solving), `methods`,
+    `published`, `presets`, `equations`, `tolerances` (the accuracy target of each
+    re-propagated miss, SI, keyed like `Solution.check`), `consistency` (what its methods must
+    agree on), `vehicle` (mesh name). The help text
+    is the package's `help.md`, with `{{name}}` filled from `help_tables()`.
     """
 
     key: str
     title: str
     summary: str
     source: str
-    help: str = ""
     params: tuple[Param, ...] = ()
+    view_params: tuple[Param, ...] = ()
     methods: tuple[Method, ...] = ()
     published: tuple[Published, ...] = ()
     presets: tuple[Preset, ...] = ()
     # (caption, LaTeX) pairs for the mission's About panel: the model in the paper's notation.
     equations: tuple[tuple[str, str], ...] = ()
+    tolerances: Mapping[str, float] = {}
+    consistency: tuple[Consistency, ...] = ()
+    cost_label: str = "cost"
+    cost_unit: str = ""
+    vehicle: str = "default"
+
+    # ---- records ------------------------------------------------------------------------
+    @property
+    def help(self) -> str:
+        """Markdown help: the package's help.md with its generated tables filled in."""
+        module = sys.modules.get(type(self).__module__)
+        path = Path(module.__file__).with_name("help.md") if module and module.__file__ else None
+        if path is None or not path.exists():
+            return ""
+        tables = self.help_tables()
+        return re.sub(r"\{\{(\w+)\}\}", lambda m: tables.get(m.group(1), m.group(0)),
+                      path.read_text(encoding="utf-8"))
+
+    def help_tables(self) -> dict[str, str]:
+        """Markdown fragments generated from code for `{{name}}` in help.md; `published`
+        lists the published numbers with their expected agreement."""
+        return {"published": published_markdown(self.published)}
 
     def method(self, key: str | None) -> Method:
         if key is None:
@@ -97,6 +140,13 @@ class Mission(ABC):
 
     def defaults(self, method: str | None = None) -> dict[str, float]:
         return {p.key: p.default for p in self.all_params(method)}
+
+    def view_defaults(self) -> dict[str, float]:
+        return {p.key: p.default for p in self.view_params}
+
+    def validate_view(self, view: Mapping[str, float] | None) -> dict[str, float]:
+        """Complete and check view options (same rules as solve values)."""
+        return validate_values(self.view_params, view)
 
     def validate(
         self,
@@ -118,9 +168,10 @@ class Mission(ABC):
         self.check_values(vals)
         return vals, m, int(n)
 
-    def check_values(self, values: dict[str, float]) -> None:  # noqa: B027 - optional hook
+    def check_values(self, values: dict[str, float]) -> None:
         """Cross-parameter consistency checks; raise `ValueError` with a message."""
 
+    # ---- solving ------------------------------------------------------------------------
     def solve(
         self,
         values: Mapping[str, float] | None = None,
@@ -137,59 +188,159 @@ class Mission(ABC):
         """Solve one request. Bad input raises `ValueError`; everything else returns a
         `Solution` whose `status` and `message` say what happened.
 
+        `warm` is a previous solution to start from (None: the method's initial guess).
         `verify=False` defers the re-propagation check (`Solution.run_check()`), so a live
         view can draw the new optimum before the high-accuracy integration has run.
         """
         vals, m, n = self.validate(values, method, nodes)
-        if backend is not None and m.backends and backend not in m.backends:
-            raise ValueError(
-                f"method '{m.key}' has no back end '{backend}' (back ends: {', '.join(m.backends)})"
-            )
-        chosen_backend = backend or (m.backends[0] if m.backends else "")
+        if backend is not None and backend not in m.backends:
+            known = ", ".join(m.backends) or "none: this method has no choice of back end"
+            raise ValueError(f"method '{m.key}' has no back end '{backend}' (back ends: {known})")
+        if warm is not None and not isinstance(warm, Solution):
+            raise ValueError(f"a warm start must be a Solution, not {type(warm).__name__}")
+        chosen_backend = backend or m.default_backend
         ctx = SolveContext(progress=progress, cancel=cancel, time_limit=time_limit)
         if warm is not None and (warm.mission != self.key or warm.method != m.key):
             warm = None
         try:
-            sol = self._solve(vals, m, n, chosen_backend, warm, ctx)
+            if m.transcription is not None and not self.solves_itself(m):
+                sol = self.solve_direct(vals, m, n, chosen_backend, warm, ctx)
+            else:
+                sol = self._solve(vals, m, n, chosen_backend, warm, ctx)
         except Infeasible as exc:
-            sol = self._empty(vals, m, n, chosen_backend, "infeasible", str(exc))
+            sol = self.empty(vals, m, n, chosen_backend, "infeasible", str(exc))
         except Cancelled as exc:
-            sol = self._empty(vals, m, n, chosen_backend, "cancelled", str(exc))
+            sol = self.empty(vals, m, n, chosen_backend, "cancelled", str(exc))
         except TimeLimit as exc:
-            sol = self._empty(vals, m, n, chosen_backend, "time-limit", str(exc))
+            sol = self.empty(vals, m, n, chosen_backend, "time-limit", str(exc))
         except Exception as exc:  # noqa: BLE001 - a solver failure must never crash a caller
-            sol = self._empty(vals, m, n, chosen_backend, "failed", f"solver failure: {exc}")
+            sol = self.empty(vals, m, n, chosen_backend, "failed", f"solver failure: {exc}")
         sol.stats["wall_s"] = ctx.elapsed()
         sol.stats.setdefault("iterations", ctx.iterations)
         if verify and sol.has_trajectory:
             sol.run_check()
         return sol
 
-    def _empty(
+    def empty(
         self, vals: dict[str, float], m: Method, n: int, backend: str, status: str, message: str
     ) -> Solution:
+        """A solution without a trajectory: what a failed or refused request returns."""
         return Solution(
-            mission=self.key,
-            method=m.key,
-            nodes=n,
-            status=status,
-            message=message,
-            cost=Quantity(float("nan"), self.cost_label, self.cost_unit),
-            values=vals,
+            mission=self.key, method=m.key, nodes=n, status=status, message=message,
+            cost=Quantity(float("nan"), self.cost_label, self.cost_unit), values=vals,
             backend=backend,
         )
 
-    cost_label: str = "cost"
-    cost_unit: str = ""
+    def solves_itself(self, method: Method) -> bool:
+        """Whether the mission's `_solve` handles this general method itself (e.g. a
+        two-stage solve); False: `solve_direct` does."""
+        return False
 
-    @abstractmethod
     def _solve(
-        self,
-        values: dict[str, float],
-        method: Method,
-        nodes: int,
-        backend: str,
-        warm: Solution | None,
-        ctx: SolveContext,
+        self, values: dict[str, float], method: Method, nodes: int, backend: str,
+        warm: Solution | None, ctx: SolveContext,
     ) -> Solution:
-        """Solve a validated request."""
+        """Solve a validated request with one of the mission's own methods."""
+        raise NotImplementedError(f"{self.key}: method '{method.key}' has no solver")
+
+    # ---- the general direct path ---------------------------------------------------------
+    def ocp(self, method: Method, values: dict[str, float]) -> OCP:
+        """The optimal control problem the general transcriptions solve."""
+        raise NotImplementedError(f"{self.key} has no OCP for the general methods")
+
+    def parameter_vector(self, values: dict[str, float]) -> np.ndarray:
+        """The OCP's numeric parameters from validated mission values."""
+        raise NotImplementedError
+
+    def precheck(self, values: dict[str, float], p: np.ndarray) -> None:
+        """Raise `Infeasible` (naming the bound) for requests that cannot be solved."""
+
+    def record(self, sol: Solution, res: OCPResult, p: np.ndarray) -> None:
+        """Fill the mission's quantities (and arcs, units) into a direct method's solution."""
+
+    def terminal_miss(self, p: np.ndarray, x_final: np.ndarray) -> dict[str, float]:
+        """The re-propagated miss of each terminal condition, SI, keyed "<name>_<unit>"."""
+        return {}
+
+    def check_atol(self, ocp: OCP) -> np.ndarray:
+        """Absolute tolerances of the re-propagation (per state, the OCP's units)."""
+        return 1e-11 * np.asarray(ocp.x_scale, float)
+
+    def solve_direct(
+        self, values: dict[str, float], method: Method, nodes: int, backend: str,
+        warm: Solution | None, ctx: SolveContext,
+    ) -> Solution:
+        """Solve with a general transcription of `self.ocp(...)` (no mission code)."""
+        from .transcription import direct_transcription
+
+        p = self.parameter_vector(values)
+        self.precheck(values, p)
+        problem = self.ocp(method, values)
+        transcription = direct_transcription(method.transcription, problem, nodes, backend,
+                                             **dict(method.options))
+        start = warm.warm if warm is not None and warm.ok else None
+        res = transcription.solve(p, start, ctx)
+        sol = self.direct_solution(values, method, nodes, backend, problem, res)
+        self.record(sol, res, p)
+        if res.status == "optimal":
+            sol.checker = lambda: self.check_direct(problem, p, res)
+        return sol
+
+    def direct_solution(
+        self, values: dict[str, float], method: Method, nodes: int, backend: str,
+        problem: OCP, res: OCPResult,
+    ) -> Solution:
+        """The numeric record of a general transcription's result."""
+        sol = Solution(
+            mission=self.key, method=method.key, nodes=nodes, backend=backend,
+            status=res.status, message=res.message,
+            cost=Quantity(float(res.cost), self.cost_label, self.cost_unit), values=values,
+            state_names=problem.states,
+            state_units=problem.state_units or ("",) * problem.nx,
+            control_names=problem.controls,
+            control_units=problem.control_units or ("",) * problem.nu,
+            node_t=res.t_nodes, node_x=res.X, node_u=res.U, arcs=[(0.0, res.T, "burn")],
+            t=res.t_dense, x=res.X_dense, u=res.U_dense, history=res.history,
+        )
+        res.record_nlp(sol)
+        return sol
+
+    def check_direct(self, problem: OCP, p: np.ndarray, res: OCPResult) -> dict[str, float]:
+        """Re-propagate the method's own control with DOP853 (rtol 1e-10) from the first
+        node's state; the terminal miss by `terminal_miss`."""
+        from .verify import repropagate
+
+        _, X = repropagate(problem.functions().f, p, res.X[0], res.control, res.t_nodes,
+                           atol=self.check_atol(problem))
+        return self.terminal_miss(p, X[-1])
+
+    # ---- presentation -------------------------------------------------------------------
+    def present(self, sol: Solution, view: Mapping[str, float] | None = None) -> Presentation:
+        """What the explorer draws for `sol` with view options `view` (defaults filled in,
+        bad values refused like solve values)."""
+        return self._present(sol, self.validate_view(view))
+
+    def _present(self, sol: Solution, view: dict[str, float]) -> Presentation:
+        """The mission's view (its view.py); this default draws the first three states."""
+        from .presentation import Presentation
+
+        def first3(x: np.ndarray) -> np.ndarray:
+            out = np.zeros((len(x), 3))
+            k = min(3, x.shape[1]) if x.ndim == 2 else 0
+            out[:, :k] = x[:, :k]
+            return out
+
+        return Presentation(frame="the first three states", path=first3(sol.x),
+                            nodes=first3(sol.node_x), vehicle=sol.mission)
+
+
+def published_markdown(published: tuple[Published, ...]) -> str:
+    """Published numbers as a markdown list, with what holds and what does not."""
+    if not published:
+        return ""
+    lines = ["*Published numbers:*"]
+    for pub in published:
+        verdict = "" if pub.holds else " — does not hold here"
+        lines.append(f"- {pub.name} = {pub.value:.10g} {pub.unit} ({pub.source}){verdict}"
+                     + (f": {pub.note}" if pub.note else ""))
+    return "\n".join(lines)

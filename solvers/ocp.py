@@ -1,34 +1,45 @@
 """A declarative optimal control problem that any general transcription can solve.
 
-Bolza form on t in [0, T]:
+Bolza form on t in [t0, t0 + T]:
 
-    min  mayer(x(T), T, p) + integral of lagrange(x, u, p) dt
-    s.t. x' = f(x, u, p),  x(0) = x0(p),  terminal(x(T), p) = 0,
-         bounds on x, u and T,  path_lb <= path(x, u, p) <= path_ub at the nodes.
+    min  mayer(x(tf), T, p) + integral of lagrange(x, u, p) dt
+    s.t. x' = f(x, u, p),  x(t0) = x0(p) (or free),  terminal(x(tf), p) = 0,
+         boundary_lb <= boundary(x(t0), x(tf), t0, T, s, p) <= boundary_ub,
+         bounds on x, u, T, t0 and the static variables s,
+         path_lb <= path(x, u, p) <= path_ub at the nodes.
 
-Symbolic functions take and return CasADi expressions in SI units; `scale`/`offset` fields
-say how the transcriptions nondimensionalise the NLP variables (value = offset + scale * z).
-Numeric callables (`bounds`, `guess`) take the numeric parameter vector, so bounds and
-guesses may follow the sliders without rebuilding the NLP.
+The initial time t0 is 0 unless `free_initial_time` (e.g. a launch date); `statics` name
+decision variables that do not depend on time (e.g. a departure v-infinity). The dynamics are
+autonomous: t0 enters only through the boundary functions.
+
+Symbolic functions take and return CasADi expressions in the problem's units (SI for our
+missions); `*_scale`/`x_offset` say how the transcriptions nondimensionalise the NLP variables
+(value = offset + scale * z). Numeric callables (`bounds`, `guess`) take the numeric parameter
+vector, so bounds and guesses follow the sliders without rebuilding the NLP.
 """
 
 from __future__ import annotations
 
 import weakref
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
+from typing import Any
 
 import casadi as ca
 import numpy as np
 
-from .solution import Solution
+from .solution import Iterate, Series, Solution, WarmStart
 
 Expr = ca.SX
 
 
+def _none() -> np.ndarray:
+    return np.zeros(0)
+
+
 @dataclass(frozen=True)
 class Bounds:
-    """Numeric box bounds in SI units."""
+    """Numeric box bounds in the problem's units."""
 
     x_lb: np.ndarray
     x_ub: np.ndarray
@@ -36,15 +47,34 @@ class Bounds:
     u_ub: np.ndarray
     T_lb: float
     T_ub: float
+    t0_lb: float = 0.0
+    t0_ub: float = 0.0
+    s_lb: np.ndarray = field(default_factory=_none)
+    s_ub: np.ndarray = field(default_factory=_none)
 
 
 @dataclass(frozen=True)
 class Guess:
-    """A cold-start guess: states linear from x(0) to `x_final`, constant control."""
+    """A cold-start guess: states linear from x(0) to `x_final` (from `x_initial` when the
+    initial state is free), constant control."""
 
     x_final: np.ndarray
     u: np.ndarray
     T: float
+    x_initial: np.ndarray | None = None
+    t0: float = 0.0
+    statics: np.ndarray = field(default_factory=_none)
+
+
+@dataclass(frozen=True)
+class BoundaryPoint:
+    """The symbolic end points handed to `OCP.boundary`."""
+
+    x0: Expr
+    xf: Expr
+    t0: Expr
+    T: Expr
+    s: Expr
 
 
 @dataclass(frozen=True, eq=False)
@@ -55,22 +85,34 @@ class OCP:
     controls: tuple[str, ...]
     n_params: int
     dynamics: Callable[[Expr, Expr, Expr], Expr]
-    initial_state: Callable[[Expr], Expr]
-    terminal: Callable[[Expr, Expr], Expr]
     bounds: Callable[[np.ndarray], Bounds]
     guess: Callable[[np.ndarray], Guess]
     x_scale: np.ndarray
     u_scale: np.ndarray
     T_scale: float
-    terminal_scale: np.ndarray
+    state_units: tuple[str, ...] = ()
+    control_units: tuple[str, ...] = ()
+    initial_state: Callable[[Expr], Expr] | None = None
+    terminal: Callable[[Expr, Expr], Expr] | None = None
+    terminal_scale: np.ndarray = field(default_factory=_none)
+    terminal_names: tuple[str, ...] = ()
     cost_scale: float = 1.0
     x_offset: np.ndarray | None = None
     mayer: Callable[[Expr, Expr, Expr], Expr] | None = None
     lagrange: Callable[[Expr, Expr, Expr], Expr] | None = None
     fixed_final_time: Callable[[Expr], Expr] | None = None
     path: Callable[[Expr, Expr, Expr], Expr] | None = None
-    path_lb: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    path_ub: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    path_lb: np.ndarray = field(default_factory=_none)
+    path_ub: np.ndarray = field(default_factory=_none)
+    free_initial_time: bool = False
+    t0_scale: float = 1.0
+    statics: tuple[str, ...] = ()
+    s_scale: np.ndarray | None = None
+    boundary: Callable[[BoundaryPoint, Expr], Expr] | None = None
+    boundary_lb: np.ndarray = field(default_factory=_none)
+    boundary_ub: np.ndarray = field(default_factory=_none)
+    boundary_scale: np.ndarray | None = None
+    nlp_options: Mapping[str, Any] = field(default_factory=dict)
 
     @property
     def nx(self) -> int:
@@ -81,8 +123,16 @@ class OCP:
         return len(self.controls)
 
     @property
+    def ns(self) -> int:
+        return len(self.statics)
+
+    @property
     def offset(self) -> np.ndarray:
         return np.zeros(self.nx) if self.x_offset is None else np.asarray(self.x_offset, float)
+
+    @property
+    def static_scale(self) -> np.ndarray:
+        return np.ones(self.ns) if self.s_scale is None else np.asarray(self.s_scale, float)
 
     def functions(self) -> OCPFunctions:
         return _functions(self)
@@ -93,9 +143,10 @@ class OCPFunctions:
     """Numeric CasADi Functions of an OCP (for guesses, dense output and verification)."""
 
     f: ca.Function
-    x0: ca.Function
+    x0: ca.Function | None
     lagrange: ca.Function | None
     fixed_T: ca.Function | None
+    terminal: ca.Function | None
 
 
 # Keyed by the OCP object itself, weakly: an id() key was reused by a later OCP of another
@@ -104,29 +155,27 @@ _FUNCTION_CACHE: weakref.WeakKeyDictionary[OCP, OCPFunctions] = weakref.WeakKeyD
 
 
 def _functions(ocp: OCP) -> OCPFunctions:
-    key = ocp
-    if key not in _FUNCTION_CACHE:
+    if ocp not in _FUNCTION_CACHE:
         x = ca.SX.sym("x", ocp.nx)
         u = ca.SX.sym("u", ocp.nu)
         p = ca.SX.sym("p", ocp.n_params)
-        lag = None
-        if ocp.lagrange is not None:
-            lag = ca.Function("L", [x, u, p], [ocp.lagrange(x, u, p)])
-        fixed = None
-        if ocp.fixed_final_time is not None:
-            fixed = ca.Function("T", [p], [ocp.fixed_final_time(p)])
-        _FUNCTION_CACHE[key] = OCPFunctions(
+
+        def fn(name: str, args: list, expr: Callable[..., Expr] | None) -> ca.Function | None:
+            return None if expr is None else ca.Function(name, args, [expr(*args)])
+
+        _FUNCTION_CACHE[ocp] = OCPFunctions(
             f=ca.Function("f", [x, u, p], [ocp.dynamics(x, u, p)]),
-            x0=ca.Function("x0", [p], [ocp.initial_state(p)]),
-            lagrange=lag,
-            fixed_T=fixed,
+            x0=fn("x0", [p], ocp.initial_state),
+            lagrange=fn("L", [x, u, p], ocp.lagrange),
+            fixed_T=fn("T", [p], ocp.fixed_final_time),
+            terminal=fn("terminal", [x, p], ocp.terminal),
         )
-    return _FUNCTION_CACHE[key]
+    return _FUNCTION_CACHE[ocp]
 
 
 @dataclass
 class OCPResult:
-    """What a general transcription returns, in SI units."""
+    """What a general transcription returns, in the problem's units."""
 
     T: float
     t_nodes: np.ndarray
@@ -142,38 +191,33 @@ class OCPResult:
     n_variables: int
     n_constraints: int
     max_violation: float
-    history: list[tuple[int, np.ndarray, np.ndarray]]
+    history: list[Iterate]
     warm: WarmStart
     control_interpolation: str = "linear"
+    t0: float = 0.0
+    statics: np.ndarray = field(default_factory=_none)
+    costates: Series | None = None
+    hamiltonian: Series | None = None
+    interval_error: Series | None = None
 
     def record_nlp(self, sol: Solution) -> None:
-        """Put this solve's NLP statistics, warm start and own defect into `sol`."""
+        """Put this solve's NLP statistics, warm start, own defect and optimality estimates
+        into `sol`."""
         sol.stats.update(iterations=self.iterations, nlp_variables=self.n_variables,
                          nlp_constraints=self.n_constraints,
                          constraint_violation=self.max_violation)
         sol.warm = self.warm
         sol.check["max_defect"] = self.max_violation
+        sol.control_interpolation = self.control_interpolation
+        sol.costates = self.costates
+        sol.hamiltonian = self.hamiltonian
 
     def control(self, t: float, x: np.ndarray | None = None) -> np.ndarray:
         """The control between nodes exactly as the transcription defines it: piecewise
-        linear, or the polynomial through all nodes (pseudospectral methods)."""
+        linear, or the polynomial through all nodes (pseudospectral methods); `t` counts from
+        the initial time."""
         if self.control_interpolation == "polynomial":
             from .transcription.lgl import interpolate
 
             return interpolate(self.t_nodes, self.U, np.array([t]))[0]
         return np.array([np.interp(t, self.t_nodes, self.U[:, j]) for j in range(self.U.shape[1])])
-
-
-@dataclass
-class WarmStart:
-    """Primal and dual values of an NLP solve, tagged with what produced them."""
-
-    kind: str
-    n_intervals: int
-    tau: np.ndarray
-    X: np.ndarray
-    U: np.ndarray
-    T: float
-    z: np.ndarray
-    lam_x: np.ndarray
-    lam_g: np.ndarray

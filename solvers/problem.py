@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 
 @dataclass(frozen=True)
@@ -54,12 +54,31 @@ class Param:
 
 
 @dataclass(frozen=True)
-class Method:
-    """A way of solving a mission: a transcription plus an NLP back end.
+class Preset:
+    """A named set of values (and optionally a method, node count and view options) for
+    demos. `cold` solves from the method's initial guess instead of the current optimum, for
+    presets about guesses and convergence."""
 
-    `nodes` is (min, default, max) of the method's discretisation size; `params` are inputs
-    only this method reads (e.g. a penalty factor); `backends` are the NLP solvers it can use,
-    the first being the default.
+    name: str
+    values: Mapping[str, float] = field(default_factory=dict)
+    method: str | None = None
+    nodes: int | None = None
+    note: str = ""
+    cold: bool = False
+    view: Mapping[str, float] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class Method:
+    """A way of solving a mission: a transcription with its options plus NLP back ends.
+
+    `transcription` names a general transcription of `solvers.transcription` ("hermite-simpson",
+    "multiple-shooting", "lgl") that solves the mission's `OCP` with no mission code; None
+    marks a method the mission implements itself (a paper's own). `nodes` is (min, default,
+    max) of the discretisation size; `params` are inputs only this method reads; `backends`
+    are keys of `solvers.nlp.backends.BACKENDS`, the first being the default. The general
+    methods are declared once in `solvers.methods` and listed by the missions that offer them
+    (with `replace` for a mission's own node range or back ends).
     """
 
     key: str
@@ -67,32 +86,90 @@ class Method:
     source: str
     summary: str
     nodes: tuple[int, int, int]
-    # `equations`: (caption, LaTeX) pairs shown in the method's About panel (as MathML).
     nodes_label: str = "nodes"
     params: tuple[Param, ...] = ()
     backends: tuple[str, ...] = ()
+    # (caption, LaTeX) pairs shown in the method's About panel (as MathML).
     equations: tuple[tuple[str, str], ...] = ()
+    transcription: str | None = None
+    options: tuple[tuple[str, int], ...] = ()  # transcription options, e.g. (("substeps", 4),)
+
+    def __post_init__(self) -> None:
+        from .nlp.backends import backend
+
+        for key in self.backends:
+            backend(key)  # raises ValueError naming the known back ends
+        lo, default, hi = self.nodes
+        if not lo <= default <= hi:
+            raise ValueError(f"Method {self.key}: default nodes {default} outside [{lo}, {hi}]")
+
+    def replace(self, **changes: object) -> Method:
+        """This method with some fields changed (a mission's node range, back ends...)."""
+        return replace(self, **changes)
+
+    @property
+    def default_backend(self) -> str:
+        return self.backends[0] if self.backends else ""
+
+
+RELATIONS = ("equal", "at-most", "at-least")
 
 
 @dataclass(frozen=True)
 class Published:
-    """A number printed in a paper (or an independent reference) to compare against."""
+    """A number printed in a paper (or an independent reference) with the agreement we
+    expect, checked by `tests/test_published.py` straight from this record.
+
+    `name` is a key of the solution's quantities, stats or check (or "cost"). `relation`
+    "equal" expects |ours - value| <= atol + rtol |value|; "at-most"/"at-least" expect ours on
+    that side of the value (a bound the paper states). `holds=False` records a published
+    number that does not hold, with the reason in `note`: the test then asserts that ours
+    really differs by more than the tolerance, so the claim is checked too. `case` is the
+    request that reproduces it (default: the mission's defaults); `methods` the methods that
+    must reproduce it (default: every method of the mission); `slow` moves the check to the
+    slow test set. `checked=False` marks a number that only a mission's own test can check
+    (e.g. a spread over several solves); `note` says which.
+    """
 
     name: str
     value: float
     unit: str
     source: str
     note: str = ""
+    rtol: float = 1e-3
+    atol: float = 0.0
+    relation: str = "equal"
+    holds: bool = True
+    case: Preset | None = None
+    methods: tuple[str, ...] = ()
+    slow: bool = False
+    checked: bool = True
+
+    def __post_init__(self) -> None:
+        if self.relation not in RELATIONS:
+            raise ValueError(f"Published {self.name}: relation must be one of {RELATIONS}")
+
+    def agrees(self, ours: float) -> bool:
+        """Whether our value satisfies the stated relation within the tolerance."""
+        slack = self.atol + self.rtol * abs(self.value)
+        if not math.isfinite(ours):
+            return False
+        if self.relation == "at-most":
+            return ours <= self.value + slack
+        if self.relation == "at-least":
+            return ours >= self.value - slack
+        return abs(ours - self.value) <= slack
 
 
 @dataclass(frozen=True)
-class Preset:
-    """A named set of values (and optionally a method/node count) for demos."""
+class Consistency:
+    """Methods of one mission that must agree on a quantity (or "cost") at the mission's
+    defaults, within `rtol` (relative to the largest magnitude): the per-method consistency
+    check of `tests/test_consistency.py`. `methods` () means every method."""
 
     name: str
-    values: Mapping[str, float] = field(default_factory=dict)
-    method: str | None = None
-    nodes: int | None = None
+    rtol: float
+    methods: tuple[str, ...] = ()
     note: str = ""
 
 

@@ -1,19 +1,34 @@
-"""Mission registry: every module in `solvers.missions` that defines `MISSION` is a mission."""
+"""Mission registry: every package of `solvers.missions` that defines `MISSION` is a mission,
+and so is every mission file a user hands in (`load_mission_file`)."""
 
 from __future__ import annotations
 
 import importlib
 import pkgutil
+import threading
 import warnings
 from functools import cache
+from pathlib import Path
 
 from .mission import Mission
 
 _IMPORT_ERRORS: dict[str, str] = {}
+_USER: dict[str, Mission] = {}  # missions from mission files, by key
+_USER_FILES: dict[str, str] = {}  # mission key -> the file it came from
+_LOCK = threading.Lock()
+
+MISSION_ORDER = (
+    "lunar-landing",
+    "cw-rendezvous",
+    "elliptic-transfer",
+    "hovercraft",
+    "apollo-reentry",
+    "asteroid-rendezvous",
+)
 
 
 @cache
-def _missions() -> dict[str, Mission]:
+def _builtin() -> dict[str, Mission]:
     from . import missions as package
 
     found: dict[str, Mission] = {}
@@ -31,30 +46,66 @@ def _missions() -> dict[str, Mission]:
     return dict(sorted(found.items(), key=lambda kv: (order.get(kv[0], len(order)), kv[0])))
 
 
-MISSION_ORDER = (
-    "lunar-landing",
-    "cw-rendezvous",
-    "elliptic-transfer",
-    "hovercraft",
-    "apollo-reentry",
-    "asteroid-rendezvous",
-)
-
-
 def import_errors() -> dict[str, str]:
     """Mission modules that failed to import, with the error (empty when all is well)."""
-    _missions()
+    _builtin()
     return dict(_IMPORT_ERRORS)
 
 
 def list_missions() -> list[Mission]:
-    """All built-in missions, in teaching order."""
-    return list(_missions().values())
+    """All missions: the built-in ones in teaching order, then the users' in load order."""
+    with _LOCK:
+        return list(_builtin().values()) + list(_USER.values())
 
 
 def get_mission(key: str) -> Mission:
     """The mission with this key; `ValueError` names the known keys otherwise."""
-    missions = _missions()
+    with _LOCK:
+        missions = {**_builtin(), **_USER}
     if key not in missions:
         raise ValueError(f"unknown mission '{key}' (missions: {', '.join(missions)})")
     return missions[key]
+
+
+def register(mission: Mission, source: str = "") -> None:
+    """Add (or replace) a user mission; a built-in key cannot be taken."""
+    if mission.key in _builtin():
+        raise ValueError(f"'{mission.key}' is a built-in mission: choose another key")
+    with _LOCK:
+        _USER[mission.key] = mission
+        if source:
+            _USER_FILES[mission.key] = source
+
+
+def unregister(key: str) -> None:
+    with _LOCK:
+        _USER.pop(key, None)
+        _USER_FILES.pop(key, None)
+
+
+def mission_file_of(key: str) -> str | None:
+    """The file a user mission came from (None for a built-in one)."""
+    with _LOCK:
+        return _USER_FILES.get(key)
+
+
+def load_mission_files(paths: list[str]) -> dict[str, str]:
+    """Load and register mission files (a folder stands for its *.py files); returns
+    {path: one-line error} for those that failed (the others are registered)."""
+    from .mission_file import MissionFileError, load_mission_file
+
+    errors: dict[str, str] = {}
+    for path in expand_mission_paths(paths):
+        try:
+            register(load_mission_file(path), str(path))
+        except (MissionFileError, ValueError) as exc:
+            errors[str(path)] = str(exc)
+    return errors
+
+
+def expand_mission_paths(paths: list[str]) -> list[Path]:
+    """Files as given; a folder as its *.py files in name order."""
+    out: list[Path] = []
+    for p in map(Path, paths):
+        out += sorted(p.glob("*.py")) if p.is_dir() else [p]
+    return out

@@ -1,4 +1,11 @@
-"""The record every method returns, so the explorer never asks which method made it."""
+"""The numeric record every method returns, so nothing downstream asks which method made it.
+
+A `Solution` holds numbers only (SI units): status and message, cost and quantities, node and
+dense trajectories, solver statistics, iterate snapshots, the re-propagation check, costate and
+error estimates and a typed warm start. It pickles (the solve service sends it between
+processes) and serialises to JSON and CSV. What the explorer draws is built from it by the
+mission's view (`solvers.presentation`).
+"""
 
 from __future__ import annotations
 
@@ -14,6 +21,10 @@ import numpy as np
 STATUSES = ("optimal", "infeasible", "iteration-limit", "time-limit", "cancelled", "failed")
 
 
+def _empty(*shape: int) -> Callable[[], np.ndarray]:
+    return lambda: np.zeros(shape)
+
+
 @dataclass
 class Quantity:
     """A labelled scalar in SI units."""
@@ -27,98 +38,75 @@ class Quantity:
 
 
 @dataclass
-class PlotSeries:
-    """One curve for a plot panel: dense samples plus the NLP node samples."""
+class Series:
+    """Named signals sampled over time: `values` has one row per `t` and one column per name
+    (SI units)."""
 
-    title: str
-    unit: str
     t: np.ndarray
-    y: np.ndarray
-    t_nodes: np.ndarray | None = None
-    y_nodes: np.ndarray | None = None
-    group: str = "state"
-
-
-@dataclass
-class Body:
-    """A sphere in the display frame (metres): the Moon, the Earth, the Sun, a target."""
-
-    name: str
-    center: tuple[float, float, float]
-    radius: float
-    color: tuple[int, int, int]
-    # Where the body is at each dense time `Solution.t` (metres, display frame), for bodies
-    # that move with the vehicle in the animation (a planet, a target); None = fixed.
-    track: np.ndarray | None = None
-
-
-@dataclass
-class Curve:
-    """A reference polyline in the display frame (metres): an orbit, an approach axis."""
-
-    name: str
-    points: np.ndarray
-    color: tuple[int, int, int]
-    dashed: bool = False
-
-
-@dataclass
-class Marker:
-    """A labelled point in the display frame (metres): a landing site, a launch date."""
-
-    name: str
-    position: tuple[float, float, float]
-    color: tuple[int, int, int] = (255, 255, 255)
-
-
-@dataclass
-class ColorBy:
-    """A scalar along the dense trajectory (one value per `Solution.t` sample) to colour the
-    path by, e.g. heating rate or thrust magnitude; the view picks the colour map."""
-
-    name: str
-    unit: str
     values: np.ndarray
+    names: tuple[str, ...]
+    units: tuple[str, ...] = ()
+
+    def column(self, name: str) -> np.ndarray:
+        return np.asarray(self.values)[:, self.names.index(name)]
+
+    def to_dict(self) -> dict[str, Any]:
+        out: dict[str, Any] = {"t": _arr(self.t)}
+        values = np.atleast_2d(np.asarray(self.values, float).reshape(len(self.t), -1))
+        for i, name in enumerate(self.names):
+            out[name] = _arr(values[:, i])
+        return out
 
 
 @dataclass
-class GridMap:
-    """A scalar over a 2-D grid shown as a contour map beside the plots (e.g. launch C3 over
-    launch date and flight time), with this solution marked on it. `z` has shape
-    (len(x), len(y)); values above `z_max` are clipped."""
+class Iterate:
+    """One NLP iterate kept for the iteration replay: node times and states (SI)."""
 
-    title: str
-    x_label: str
+    iteration: int
+    t: np.ndarray
     x: np.ndarray
-    y_label: str
-    y: np.ndarray
-    z_label: str
-    z: np.ndarray
-    z_max: float
-    marker: tuple[float, float] | None = None
-    marker_label: str = "this solution"
 
 
 @dataclass
-class Scene:
-    """Everything a 3D view needs besides the trajectory itself."""
+class WarmStart:
+    """Primal (and dual) values of a solve, tagged with what made them.
 
-    frame: str
-    display_unit: str
-    display_scale: float
-    bodies: list[Body] = field(default_factory=list)
-    curves: list[Curve] = field(default_factory=list)
-    markers: list[Marker] = field(default_factory=list)
-    up: str = "+z"
+    A later solve of the same NLP (`kind` and `n_intervals` equal) restarts from `z`,
+    `lam_x`, `lam_g`; any other solve re-interpolates the node values `X`, `U` on `tau`
+    (normalised time in [0, 1]) with final time `T`, initial time `t0` and static variables
+    `statics`. `data` holds a method's own numeric extras (e.g. a scale)."""
+
+    kind: str
+    n_intervals: int
+    tau: np.ndarray
+    X: np.ndarray
+    U: np.ndarray
+    T: float
+    z: np.ndarray = field(default_factory=_empty(0))
+    lam_x: np.ndarray = field(default_factory=_empty(0))
+    lam_g: np.ndarray = field(default_factory=_empty(0))
+    t0: float = 0.0
+    statics: np.ndarray = field(default_factory=_empty(0))
+    data: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def has_duals(self) -> bool:
+        return len(self.lam_g) > 0 or len(self.lam_x) > 0
+
+    def primal_only(self, kind: str = "guess") -> WarmStart:
+        """The same nodes as a plain guess (no NLP vector, no multipliers)."""
+        return WarmStart(kind, self.n_intervals, self.tau, self.X, self.U, self.T, t0=self.t0,
+                         statics=self.statics, data=dict(self.data))
 
 
 @dataclass
 class Solution:
     """Result of `Mission.solve`, identical in shape for every mission and method.
 
-    Times in s, states/controls in SI (`state_units`, `control_units`), `positions` and
-    `node_positions` in metres in the mission's display frame, `thrust` one vector per node
-    (display frame, unit length scaled by throttle).
+    Times in s; states and controls in SI (`state_units`, `control_units`); `node_*` at the
+    NLP nodes, `t`/`x`/`u` dense samples of the method's own interpolation
+    (`control_interpolation`: "linear" between nodes, "polynomial" through all of them, or
+    "dense" when the control is only known at the samples).
     """
 
     mission: str
@@ -134,45 +122,66 @@ class Solution:
     state_units: tuple[str, ...] = ()
     control_names: tuple[str, ...] = ()
     control_units: tuple[str, ...] = ()
-    node_t: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    node_x: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
-    node_u: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    node_t: np.ndarray = field(default_factory=_empty(0))
+    node_x: np.ndarray = field(default_factory=_empty(0, 0))
+    node_u: np.ndarray = field(default_factory=_empty(0, 0))
     arcs: list[tuple[float, float, str]] = field(default_factory=list)
-    t: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    x: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
-    u: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
-    positions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
-    node_positions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
-    thrust: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
-    scene: Scene | None = None
-    color_by: ColorBy | None = None
-    plots: list[PlotSeries] = field(default_factory=list)
-    maps: list[GridMap] = field(default_factory=list)
+    t: np.ndarray = field(default_factory=_empty(0))
+    x: np.ndarray = field(default_factory=_empty(0, 0))
+    u: np.ndarray = field(default_factory=_empty(0, 0))
+    control_interpolation: str = "linear"
     stats: dict[str, float] = field(default_factory=dict)
-    history: list[dict[str, Any]] = field(default_factory=list)
+    history: list[Iterate] = field(default_factory=list)
     check: dict[str, float] = field(default_factory=dict)
-    warm: Any = field(default=None, repr=False)
+    references: dict[str, Series] = field(default_factory=dict)
+    costates: Series | None = None
+    hamiltonian: Series | None = None
+    switching: Series | None = None
+    interval_error: Series | None = None
+    mesh: list[dict[str, float]] = field(default_factory=list)
+    warm: WarmStart | None = field(default=None, repr=False)
+    # The deferred re-propagation check (see `Mission.solve(verify=False)`); it stays in the
+    # process that solved: never pickled.
     checker: Callable[[], dict[str, float]] | None = field(default=None, repr=False)
+
+    def __getstate__(self) -> dict[str, Any]:
+        state = dict(self.__dict__)
+        state["checker"] = None
+        return state
 
     @property
     def ok(self) -> bool:
         return self.status == "optimal"
 
+    @property
+    def has_trajectory(self) -> bool:
+        return len(self.t) > 1
+
+    def value(self, name: str) -> float:
+        """A number by name: "cost", a quantity, a statistic or a check entry (SI)."""
+        if name == "cost":
+            return float(self.cost.value)
+        if name in self.quantities:
+            return float(self.quantities[name].value)
+        for table in (self.stats, self.check):
+            if name in table:
+                return float(table[name])
+        raise KeyError(f"{self.mission}/{self.method} reports no '{name}'")
+
     def run_check(self) -> dict[str, float]:
-        """Run the deferred re-propagation check (see `Mission.solve(verify=False)`). A check
-        that fails is reported in `message`, never raised: the solution stays usable."""
+        """Run the deferred re-propagation check. A check that fails is reported in
+        `message`, never raised: the solution stays usable."""
         if self.checker is not None:
             checker, self.checker = self.checker, None
             try:
                 self.check.update(checker())
-            except Exception as exc:  # noqa: BLE001 - a failed check is reported, not fatal
-                self.check["error"] = float("nan")
+            except BaseException as exc:
+                if not isinstance(exc, Exception):  # interrupted (or exiting): run it again
+                    self.checker = checker
+                    raise
+                self.check["error"] = float("nan")  # a failed check is reported, not fatal
                 self.message += f" (re-propagation check failed: {exc})"
         return self.check
-
-    @property
-    def has_trajectory(self) -> bool:
-        return len(self.t) > 1
 
     def summary(self) -> str:
         """One line for a status bar or a terminal."""
@@ -209,7 +218,12 @@ class Solution:
             "node_t": _arr(self.node_t),
             "node_x": _arr(self.node_x),
             "node_u": _arr(self.node_u),
+            "mesh": [{k: _num(v) for k, v in step.items()} for step in self.mesh],
         }
+        for name in ("costates", "hamiltonian", "switching"):
+            series = getattr(self, name)
+            if series is not None:
+                out["switching_function" if name == "switching" else name] = series.to_dict()
         if dense:
             out.update(t=_arr(self.t), x=_arr(self.x), u=_arr(self.u))
         return out

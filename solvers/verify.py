@@ -7,7 +7,8 @@ the continuous dynamics driven by the method's control really end from the targe
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from functools import cache
 
 import casadi as ca
@@ -17,6 +18,24 @@ from scipy.integrate import solve_ivp
 RTOL = 1e-10
 
 Control = Callable[[float, np.ndarray], np.ndarray]
+
+
+class CheckInterrupted(BaseException):
+    """A waiting solve pre-empts the running check (the solve service runs it again later).
+    A BaseException, so a check's own error handling does not swallow it."""
+
+
+_interrupt: list[Callable[[], bool]] = []
+
+
+@contextmanager
+def interruptible(should_stop: Callable[[], bool]) -> Iterator[None]:
+    """Integrations inside the block raise `CheckInterrupted` as soon as `should_stop()`."""
+    _interrupt.append(should_stop)
+    try:
+        yield
+    finally:
+        _interrupt.pop()
 
 
 @cache
@@ -61,6 +80,14 @@ def integrate_piecewise(
     """DOP853 from breakpoints[0] to breakpoints[-1], restarted at every breakpoint (where a
     piecewise control has kinks, so no step straddles one). Returns (t, Y) at the
     breakpoints, or `samples_per_piece` more samples inside each piece."""
+    if _interrupt:
+        stop, inner = _interrupt[-1], rhs
+
+        def rhs(t: float, y: np.ndarray) -> np.ndarray:
+            if stop():
+                raise CheckInterrupted
+            return inner(t, y)
+
     ts, ys = [float(breakpoints[0])], [np.asarray(y0, float)]
     y = np.asarray(y0, float)
     for t0, t1 in zip(breakpoints[:-1], breakpoints[1:], strict=True):

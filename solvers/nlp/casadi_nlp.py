@@ -8,36 +8,19 @@ request is cancelled or past its time limit.
 
 from __future__ import annotations
 
-import threading
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from functools import cache, wraps
-from typing import Any, TypeVar
 
 import casadi as ca
 import numpy as np
 
 from ..mission import Cancelled, SolveContext, TimeLimit
+from .backends import backend as registered_backend
+from .cache import BUILD_LOCK, built_once
 from .exterior_penalty import penalty_functions, solve_exterior_penalty
 
-T = TypeVar("T")
-BACKENDS = ("ipopt", "sqp", "penalty-bfgs")
-# CasADi releases the GIL inside solver calls but building a solver (plugin loading, code
-# generation of derivatives) is not thread-safe: two explorer sessions building or solving
-# at once crashed the process. All builds and solves in this process take this lock.
-CASADI_LOCK = threading.RLock()
+__all__ = ["NLP", "NLPResult", "built_once", "status_of"]
 
-
-def built_once(fn: Callable[..., T]) -> Callable[..., T]:
-    """`functools.cache` for CasADi builders, building under `CASADI_LOCK`."""
-    cached = cache(fn)
-
-    @wraps(fn)
-    def wrapper(*args: Any, **kwargs: Any) -> T:
-        with CASADI_LOCK:
-            return cached(*args, **kwargs)
-
-    return wrapper
 SNAPSHOT_ITERATIONS = frozenset({0, 1, 2, 3, 5, 8, 13, 21, 34, 55, 89})
 
 _IPOPT_COMMON = {
@@ -141,12 +124,12 @@ class NLP:
     ) -> None:
         """`ipopt_options` are added to (and override) the common IPOPT settings, e.g.
         {"ipopt.mu_strategy": "adaptive"} for a problem that needs it."""
-        with CASADI_LOCK:
+        with BUILD_LOCK:
             self._build(x, f, g, p, backend, name, ipopt_options)
 
     def _build(self, x, f, g, p, backend: str, name: str, ipopt_options: dict | None) -> None:
-        if backend not in BACKENDS:
-            raise ValueError(f"unknown NLP back end '{backend}' (back ends: {', '.join(BACKENDS)})")
+        if registered_backend(backend).kind != "nlp":
+            raise ValueError(f"back end '{backend}' does not solve a general NLP")
         self.backend = backend
         self.n_x = int(x.numel())
         self.n_g = int(g.numel())
@@ -157,7 +140,10 @@ class NLP:
         self._hook = _IterationHook(f"{name}_hook", self.n_x, self.n_g, self.n_p)
         self._solvers: dict[bool, ca.Function] = {}
         self._penalty_parts: ca.Function | None = None
-        self._lock = CASADI_LOCK
+        # CasADi builds are not thread-safe and IPOPT's MUMPS keeps global state: in one
+        # process, one build or solve at a time. The solve service runs one solve per worker
+        # process, so this lock is never contended there.
+        self._lock = BUILD_LOCK
 
     def _solver(self, warm: bool) -> ca.Function:
         key = warm and self.backend == "ipopt"
@@ -238,7 +224,7 @@ class NLP:
 
     def _solve_penalty(self, x0, p, lbx, ubx, lbg, ubg, ctx) -> NLPResult:
         """The exterior penalty method (paper 000, eq. 12) on the same NLP."""
-        with self._lock:
+        with BUILD_LOCK:
             if self._penalty_parts is None:
                 pr = self._problem
                 self._penalty_parts = penalty_functions(pr["x"], pr["f"], pr["g"], pr["p"])

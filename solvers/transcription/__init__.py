@@ -7,7 +7,7 @@ slider move re-solves the built NLP warm.
 
 from __future__ import annotations
 
-from ..nlp.casadi_nlp import built_once
+from ..nlp.cache import built_once
 from ..ocp import OCP
 from .direct import DirectTranscription
 from .hermite_simpson import HermiteSimpson

@@ -1,5 +1,6 @@
 """What every direct transcription of an `OCP` shares: the variable layout (scaled node
-states, node controls, final time), bounds, guesses, warm starts and decoding.
+states, node controls, final time, initial time, static variables), bounds, guesses, warm
+starts and decoding.
 
 A subclass supplies only the dynamics constraints (collocation defects or shooting gaps),
 the running-cost quadrature and the dense interpolation that goes with them.
@@ -14,11 +15,12 @@ import numpy as np
 
 from ..mission import SolveContext
 from ..nlp.casadi_nlp import NLP, status_of
-from ..ocp import OCP, OCPResult, WarmStart
+from ..ocp import OCP, BoundaryPoint, OCPResult
+from ..solution import Iterate, WarmStart
 
 
 class DirectTranscription(ABC):
-    """Nodes at tau_k = k/N on t = T tau; states and controls at every node."""
+    """Nodes at tau_k in [0, 1] on t = t0 + T tau; states and controls at every node."""
 
     kind: str = "direct"
     # How the control is defined between nodes: "linear" or "polynomial" (through all nodes).
@@ -36,65 +38,96 @@ class DirectTranscription(ABC):
         nx, nu, N = ocp.nx, ocp.nu, self.N
         self.tau = self.mesh(N)
         self.free_T = ocp.fixed_final_time is None
+        self.free_t0 = ocp.free_initial_time
         Xs = ca.SX.sym("X", nx, N + 1)
         Us = ca.SX.sym("U", nu, N + 1)
         p = ca.SX.sym("p", ocp.n_params)
         Ts = ca.SX.sym("T") if self.free_T else ca.SX(0, 1)
+        t0s = ca.SX.sym("t0") if self.free_t0 else ca.SX(0, 1)
+        ss = ca.SX.sym("s", ocp.ns)
         T = Ts * ocp.T_scale if self.free_T else ocp.fixed_final_time(p)
+        t0 = t0s * ocp.t0_scale if self.free_t0 else ca.SX(0.0)
+        s = ss * ca.DM(ocp.static_scale)
         X = ca.repmat(ca.DM(ocp.offset), 1, N + 1) + ca.repmat(ca.DM(ocp.x_scale), 1, N + 1) * Xs
         U = ca.repmat(ca.DM(ocp.u_scale), 1, N + 1) * Us
         defects, running = self._dynamics(X, U, T, p)
         cost = running
         if ocp.mayer is not None:
             cost = cost + ocp.mayer(X[:, N], T, p)
-        g = [defects, ocp.terminal(X[:, N], p) / ca.DM(ocp.terminal_scale)]
+        g = [defects]
+        self.n_terminal = 0
+        if ocp.terminal is not None:
+            g.append(ocp.terminal(X[:, N], p) / ca.DM(ocp.terminal_scale))
+            self.n_terminal = int(np.size(ocp.terminal_scale))
+        self.n_boundary = 0
+        if ocp.boundary is not None:
+            point = BoundaryPoint(X[:, 0], X[:, N], t0, T, s)
+            scale = (np.ones(len(ocp.boundary_lb)) if ocp.boundary_scale is None
+                     else np.asarray(ocp.boundary_scale, float))
+            g.append(ocp.boundary(point, p) / ca.DM(scale))
+            self.n_boundary = len(ocp.boundary_lb)
+            self._boundary_scale = scale
         self.n_path = 0
         if ocp.path is not None:
             path = ca.horzcat(*[ocp.path(X[:, k], U[:, k], p) for k in range(N + 1)])
             self.n_path = int(path.size1())
             g.append(ca.vec(path))
         self.n_defects = int(defects.numel())
-        self.n_terminal = int(np.size(ocp.terminal_scale))
-        z = ca.vertcat(ca.vec(Xs), ca.vec(Us), Ts)
-        self.nlp = NLP(
-            z, cost / ocp.cost_scale, ca.vertcat(*g), p, backend, name=self.kind.replace("-", "_")
-        )
+        z = ca.vertcat(ca.vec(Xs), ca.vec(Us), Ts, t0s, ss)
+        self.nlp = NLP(z, cost / ocp.cost_scale, ca.vertcat(*g), p, backend,
+                       name=self.kind.replace("-", "_"), ipopt_options=dict(ocp.nlp_options))
 
     @abstractmethod
     def _dynamics(self, X: ca.SX, U: ca.SX, T: ca.SX, p: ca.SX) -> tuple[ca.SX, ca.SX]:
-        """Scaled dynamics constraints (vector) and the running cost in SI."""
+        """Scaled dynamics constraints (vector) and the running cost in the problem's units."""
 
     @abstractmethod
     def dense(
         self, T: float, X: np.ndarray, U: np.ndarray, p: np.ndarray, per_interval: int
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Dense (t, X, U) as the method defines the trajectory between nodes."""
+        """Dense (t - t0, X, U) as the method defines the trajectory between nodes."""
 
     # ---- variable layout -------------------------------------------------------------
-    def _pack(self, X: np.ndarray, U: np.ndarray, T: float) -> np.ndarray:
+    def _pack(self, X: np.ndarray, U: np.ndarray, T: float, t0: float = 0.0,
+              statics: np.ndarray | None = None) -> np.ndarray:
         ocp = self.ocp
-        Xs = (X - ocp.offset) / ocp.x_scale
-        Us = U / ocp.u_scale
-        parts = [Xs.ravel(), Us.ravel()]
+        parts = [((X - ocp.offset) / ocp.x_scale).ravel(), (U / ocp.u_scale).ravel()]
         if self.free_T:
             parts.append([T / ocp.T_scale])
+        if self.free_t0:
+            parts.append([t0 / ocp.t0_scale])
+        s = np.zeros(ocp.ns) if statics is None or len(statics) != ocp.ns else statics
+        parts.append(np.asarray(s, float) / ocp.static_scale)
         return np.concatenate(parts)
 
-    def _unpack(self, z: np.ndarray, p: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
+    def _unpack(self, z: np.ndarray, p: np.ndarray
+                ) -> tuple[np.ndarray, np.ndarray, float, float, np.ndarray]:
+        """(X, U, T, t0, statics) in the problem's units."""
         ocp, N = self.ocp, self.N
         nX, nU = ocp.nx * (N + 1), ocp.nu * (N + 1)
         X = ocp.offset + ocp.x_scale * z[:nX].reshape(N + 1, ocp.nx)
         U = ocp.u_scale * z[nX : nX + nU].reshape(N + 1, ocp.nu)
-        T = float(z[-1] * ocp.T_scale) if self.free_T else float(self.fn.fixed_T(p))
-        return X, U, T
+        i = nX + nU
+        if self.free_T:
+            T = float(z[i] * ocp.T_scale)
+            i += 1
+        else:
+            T = float(self.fn.fixed_T(p))
+        t0 = 0.0
+        if self.free_t0:
+            t0 = float(z[i] * ocp.t0_scale)
+            i += 1
+        statics = z[i : i + ocp.ns] * ocp.static_scale
+        return X, U, T, t0, statics
 
     def _box(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         ocp, N = self.ocp, self.N
         b = ocp.bounds(p)
-        x0 = np.asarray(self.fn.x0(p)).ravel()
         xlb = np.tile((b.x_lb - ocp.offset) / ocp.x_scale, (N + 1, 1))
         xub = np.tile((b.x_ub - ocp.offset) / ocp.x_scale, (N + 1, 1))
-        xlb[0] = xub[0] = (x0 - ocp.offset) / ocp.x_scale
+        if self.fn.x0 is not None:
+            x0 = np.asarray(self.fn.x0(p)).ravel()
+            xlb[0] = xub[0] = (x0 - ocp.offset) / ocp.x_scale
         ulb = np.tile(b.u_lb / ocp.u_scale, (N + 1, 1))
         uub = np.tile(b.u_ub / ocp.u_scale, (N + 1, 1))
         lb = [xlb.ravel(), ulb.ravel()]
@@ -102,34 +135,55 @@ class DirectTranscription(ABC):
         if self.free_T:
             lb.append([b.T_lb / ocp.T_scale])
             ub.append([b.T_ub / ocp.T_scale])
+        if self.free_t0:
+            lb.append([b.t0_lb / ocp.t0_scale])
+            ub.append([b.t0_ub / ocp.t0_scale])
+        s_lb = np.full(ocp.ns, -np.inf) if len(b.s_lb) != ocp.ns else np.asarray(b.s_lb, float)
+        s_ub = np.full(ocp.ns, np.inf) if len(b.s_ub) != ocp.ns else np.asarray(b.s_ub, float)
+        lb.append(s_lb / ocp.static_scale)
+        ub.append(s_ub / ocp.static_scale)
         return np.concatenate(lb), np.concatenate(ub)
 
     def _g_bounds(self) -> tuple[np.ndarray, np.ndarray]:
         n_eq = self.n_defects + self.n_terminal
         lb = [np.zeros(n_eq)]
         ub = [np.zeros(n_eq)]
+        if self.n_boundary:
+            lb.append(np.asarray(self.ocp.boundary_lb, float) / self._boundary_scale)
+            ub.append(np.asarray(self.ocp.boundary_ub, float) / self._boundary_scale)
         if self.n_path:
             reps = self.N + 1
             lb.append(np.tile(self.ocp.path_lb, reps))
             ub.append(np.tile(self.ocp.path_ub, reps))
         return np.concatenate(lb), np.concatenate(ub)
 
+    def initial_state(self, p: np.ndarray, fallback: np.ndarray) -> np.ndarray:
+        """x(t0) fixed by the problem, or `fallback` when the initial state is free."""
+        return np.asarray(self.fn.x0(p)).ravel() if self.fn.x0 is not None else fallback
+
     def _cold_guess(self, p: np.ndarray) -> np.ndarray:
         guess = self.ocp.guess(p)
-        x0 = np.asarray(self.fn.x0(p)).ravel()
+        start = np.asarray(guess.x_initial if guess.x_initial is not None else guess.x_final,
+                           float)
+        x0 = self.initial_state(p, start)
         X = x0 + np.outer(self.tau, np.asarray(guess.x_final) - x0)
         U = np.tile(np.asarray(guess.u, float), (self.N + 1, 1))
         T = guess.T if self.free_T else float(self.fn.fixed_T(p))
-        return self._pack(X, U, T)
+        return self._pack(X, U, T, guess.t0, guess.statics)
 
     def _warm_guess(self, warm: WarmStart, p: np.ndarray) -> np.ndarray:
         """Re-interpolate another solution onto this mesh (node count or method changed)."""
         X = _resample(self.tau, warm.tau, warm.X)
         U = _resample(self.tau, warm.tau, warm.U)
-        x0 = np.asarray(self.fn.x0(p)).ravel()
-        X[0] = x0
+        X[0] = self.initial_state(p, X[0])
         T = warm.T if self.free_T else float(self.fn.fixed_T(p))
-        return self._pack(X, U, T)
+        return self._pack(X, U, T, warm.t0, warm.statics)
+
+    def reuses(self, warm: WarmStart | None) -> bool:
+        """Whether `warm` came from this very NLP (its primal and dual values fit as they
+        are)."""
+        return (warm is not None and warm.kind == self.kind and warm.n_intervals == self.N
+                and warm.has_duals and len(warm.z) == self.nlp.n_x)
 
     # ---- solve -----------------------------------------------------------------------
     def solve(
@@ -139,12 +193,13 @@ class DirectTranscription(ABC):
         ctx: SolveContext | None = None,
         dense_per_interval: int = 10,
     ) -> OCPResult:
-        """Solve for numeric parameters `p`, warm-started when `warm` fits this mesh."""
+        """Solve for numeric parameters `p`, warm-started when `warm` fits this mesh,
+        re-interpolated from `warm` otherwise, from the problem's guess without `warm`."""
         p = np.asarray(p, float)
         lbx, ubx = self._box(p)
         lbg, ubg = self._g_bounds()
         lam_x = lam_g = None
-        if warm is not None and warm.kind == self.kind and warm.n_intervals == self.N:
+        if self.reuses(warm):
             z0 = warm.z.copy()
             lam_x, lam_g = warm.lam_x, warm.lam_g
         elif warm is not None:
@@ -153,13 +208,13 @@ class DirectTranscription(ABC):
             z0 = self._cold_guess(p)
         z0 = np.clip(z0, lbx, ubx)
         res = self.nlp.solve(z0, p, lbx, ubx, lbg, ubg, lam_x, lam_g, ctx)
-        X, U, T = self._unpack(res.x, p)
+        X, U, T, t0, statics = self._unpack(res.x, p)
         status, message = status_of(res)
         t_dense, X_dense, U_dense = self.dense(T, X, U, p, dense_per_interval)
         history = []
         for k, z in res.history:
-            Xk, _, Tk = self._unpack(z, p)
-            history.append((k, self.tau * Tk, Xk))
+            Xk, _, Tk, _, _ = self._unpack(z, p)
+            history.append(Iterate(k, self.tau * Tk, Xk))
         return OCPResult(
             T=T,
             t_nodes=self.tau * T,
@@ -176,8 +231,11 @@ class DirectTranscription(ABC):
             n_constraints=self.nlp.n_g,
             max_violation=res.max_violation,
             history=history,
-            warm=WarmStart(self.kind, self.N, self.tau, X, U, T, res.x, res.lam_x, res.lam_g),
+            warm=WarmStart(self.kind, self.N, self.tau, X, U, T, res.x, res.lam_x, res.lam_g,
+                           t0=t0, statics=statics),
             control_interpolation=self.control_interpolation,
+            t0=t0,
+            statics=statics,
         )
 
 

@@ -1,10 +1,14 @@
 """Hermite–Simpson collocation (compressed form): cubic Hermite state, linear control.
 
-On each of N equal intervals of length h the state is the cubic Hermite interpolant of the
-node states and slopes; the collocation point is the midpoint, where
+On each interval of length h the state is the cubic Hermite interpolant of the node states
+and slopes; the collocation point is the midpoint, where
 x_m = (x_k + x_k+1)/2 + h/8 (f_k - f_k+1) and u_m = (u_k + u_k+1)/2, and the defect is
 x_k+1 - x_k - h/6 (f_k + 4 f_m + f_k+1) (papers 000 eqs. 6-8 and 003). The running cost
 uses the same Simpson quadrature.
+
+`hs_defects` and `hermite_dense` are the one implementation of the defect and of the dense
+output: the general transcription below, the burn arcs of paper 000 and every mission's
+drawing use them.
 """
 
 from __future__ import annotations
@@ -15,6 +19,47 @@ import numpy as np
 from .direct import DirectTranscription
 
 
+def hs_defects(
+    f: ca.Function, X: ca.SX, U: ca.SX, h: ca.SX | float, P: ca.SX
+) -> tuple[ca.SX, ca.SX, ca.SX]:
+    """Defects (nx, N) of node states X (nx, N+1) and controls U (nu, N+1) on intervals of
+    length h (a scalar or a (1, N) row), with P the parameters repeated per node; also the
+    midpoint states and controls (for a running cost on the same quadrature)."""
+    N = X.shape[1] - 1
+    h = h if isinstance(h, ca.SX | ca.MX | ca.DM) else ca.SX(h)
+    F = f.map(N + 1)(X, U, P)
+    Xk, Xk1, Fk, Fk1 = X[:, :-1], X[:, 1:], F[:, :-1], F[:, 1:]
+    H = ca.repmat(h, X.shape[0], 1) if h.shape[1] == N else h
+    Xm = (Xk + Xk1) / 2 + H / 8 * (Fk - Fk1)
+    Um = (U[:, :-1] + U[:, 1:]) / 2
+    Fm = f.map(N)(Xm, Um, P[:, :-1])
+    return Xk1 - Xk - H / 6 * (Fk + 4 * Fm + Fk1), Xm, Um
+
+
+def hermite_dense(
+    t_nodes: np.ndarray, X: np.ndarray, F: np.ndarray, per_interval: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """Cubic Hermite interpolation of node states X (rows) with their time derivatives F:
+    `per_interval` samples per interval plus the last node."""
+    s = np.linspace(0.0, 1.0, per_interval + 1)[:-1]
+    h00, h10 = 2 * s**3 - 3 * s**2 + 1, s**3 - 2 * s**2 + s
+    h01, h11 = -2 * s**3 + 3 * s**2, s**3 - s**2
+    h = np.diff(t_nodes)
+    ts, xs = [], []
+    for k in range(len(h)):
+        xs.append(np.outer(h00, X[k]) + np.outer(h10 * h[k], F[k]) + np.outer(h01, X[k + 1])
+                  + np.outer(h11 * h[k], F[k + 1]))
+        ts.append(t_nodes[k] + s * h[k])
+    return np.concatenate([*ts, t_nodes[-1:]]), np.vstack([*xs, X[-1:]])
+
+
+def linear_dense(t_nodes: np.ndarray, U: np.ndarray, per_interval: int) -> np.ndarray:
+    """Node values (rows) linear between nodes, sampled like `hermite_dense`."""
+    s = np.linspace(0.0, 1.0, per_interval + 1)[:-1]
+    parts = [np.outer(1 - s, U[k]) + np.outer(s, U[k + 1]) for k in range(len(t_nodes) - 1)]
+    return np.vstack([*parts, U[-1:]])
+
+
 class HermiteSimpson(DirectTranscription):
     kind = "hermite-simpson"
 
@@ -22,12 +67,8 @@ class HermiteSimpson(DirectTranscription):
         N, ocp = self.N, self.ocp
         h = T / N
         P = ca.repmat(p, 1, N + 1)
-        F = self.fn.f.map(N + 1)(X, U, P)
-        Xk, Xk1, Fk, Fk1 = X[:, :-1], X[:, 1:], F[:, :-1], F[:, 1:]
-        Xm = (Xk + Xk1) / 2 + h / 8 * (Fk - Fk1)
-        Um = (U[:, :-1] + U[:, 1:]) / 2
-        Fm = self.fn.f.map(N)(Xm, Um, P[:, :-1])
-        defects = (Xk1 - Xk - h / 6 * (Fk + 4 * Fm + Fk1)) / ca.repmat(ca.DM(ocp.x_scale), 1, N)
+        defects, Xm, Um = hs_defects(self.fn.f, X, U, h, P)
+        defects = defects / ca.repmat(ca.DM(ocp.x_scale), 1, N)
         running = ca.SX(0)
         if self.fn.lagrange is not None:
             L = self.fn.lagrange.map(N + 1)(X, U, P)
@@ -39,23 +80,7 @@ class HermiteSimpson(DirectTranscription):
         self, T: float, X: np.ndarray, U: np.ndarray, p: np.ndarray, per_interval: int
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         N = self.N
-        h = T / N
         F = np.asarray(self.fn.f.map(N + 1)(X.T, U.T, np.tile(p[:, None], (1, N + 1)))).T
-        s = np.linspace(0.0, 1.0, per_interval + 1)[:-1]
-        # Cubic Hermite basis on [0, 1].
-        h00 = 2 * s**3 - 3 * s**2 + 1
-        h10 = s**3 - 2 * s**2 + s
-        h01 = -2 * s**3 + 3 * s**2
-        h11 = s**3 - s**2
-        xs, us, ts = [], [], []
-        for k in range(N):
-            xs.append(
-                np.outer(h00, X[k]) + np.outer(h10 * h, F[k]) + np.outer(h01, X[k + 1])
-                + np.outer(h11 * h, F[k + 1])
-            )
-            us.append(np.outer(1 - s, U[k]) + np.outer(s, U[k + 1]))
-            ts.append((k + s) * h)
-        xs.append(X[-1:])
-        us.append(U[-1:])
-        ts.append([T])
-        return np.concatenate(ts), np.vstack(xs), np.vstack(us)
+        t_nodes = self.tau * T
+        t, Xd = hermite_dense(t_nodes, X, F, per_interval)
+        return t, Xd, linear_dense(t_nodes, U, per_interval)

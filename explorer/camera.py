@@ -1,0 +1,179 @@
+"""Where the camera looks from: framing a path obliquely from the side of its best-fit plane
+(pure numpy on a `Geometry`, display units), the plan view, the chase camera, and the cameras
+of the browsers that watch one view."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+
+import numpy as np
+import viser
+
+from .geometry import Geometry
+
+FOV = math.radians(50.0)
+ELEVATION = 0.06  # how far above the trajectory's plane the camera looks from
+OBLIQUE = math.radians(20.0)  # camera azimuth from the plane normal towards the start
+
+
+@dataclass
+class Camera:
+    """A camera pose in display units plus clipping distances."""
+
+    position: np.ndarray
+    look_at: np.ndarray
+    up: np.ndarray
+    near: float
+    far: float
+
+
+def _view_up(g: Geometry) -> np.ndarray:
+    """'Up' on screen: away from a large body the trajectory is close to (a landing is
+    seen with the ground below), else the scene's up axis. Small bodies (a target drawn
+    enlarged) do not count."""
+    for s in g.spheres:
+        offset = g.center - s.center
+        if s.radius > 0.5 * g.extent and 0 < np.linalg.norm(offset) < s.radius + 2 * g.extent:
+            return offset / np.linalg.norm(offset)
+    return np.asarray(g.scene_up, float)
+
+
+def _plane_axes(pts: np.ndarray) -> np.ndarray:
+    """Rows: the path's main direction, second direction and best-fit plane normal."""
+    if len(pts) >= 3:
+        return np.linalg.svd(pts - pts.mean(axis=0), full_matrices=False)[2]
+    return np.eye(3)
+
+
+def top_view(g: Geometry) -> np.ndarray:
+    """Direction from the path towards a camera looking straight at its plane (the plan
+    view), from the side 'up' points to when the plane is vertical."""
+    pts = g.points if len(g.points) else g.center[None]
+    normal = _plane_axes(pts)[-1]
+    ref = g.scene_up if abs(normal.dot(g.scene_up)) > 1e-6 else _view_up(g)
+    return normal if normal.dot(ref) >= 0 else -normal
+
+
+def fit_camera(g: Geometry, aspect: float = 1.0, bottom: float = 0.0,
+               margin: float = 1.2, view: np.ndarray | None = None) -> Camera:
+    """Look at the trajectory's centre obliquely from the side of its best-fit plane (from
+    behind its start, `OBLIQUE` off the plane normal, `ELEVATION` above the plane), or from
+    the direction `view` if given, just far enough that every point is inside a canvas of
+    width/height `aspect` whose lowest `bottom` fraction is covered (by a floating panel).
+    'Up' is `_view_up`, made perpendicular to the line of sight."""
+    up = _view_up(g)
+    pts = g.points if len(g.points) else g.center[None]
+    framed = np.concatenate([pts, g.arrows.reshape(-1, 3)] + [m[1][None] for m in g.markers])
+    axes = _plane_axes(pts)
+    along, normal = axes[0], axes[-1]
+    bottom = min(max(bottom, 0.0), 0.45)
+    side = normal - normal.dot(up) * up
+    if view is not None:
+        view = np.asarray(view, float)
+        up = up - up.dot(view) * view
+        if np.linalg.norm(up) < 1e-6:  # looking along 'up': the path's direction is up
+            up = along - along.dot(view) * view
+        up /= np.linalg.norm(up)
+    elif np.linalg.norm(side) < 0.3:
+        # The trajectory lies across 'up' (e.g. an orbit seen from above): look down at it.
+        ref = np.array([1.0, 0.0, 0.0]) if abs(up[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+        side = ref - ref.dot(up) * up
+        view = 0.55 * side / np.linalg.norm(side) + 0.85 * up
+    else:
+        side /= np.linalg.norm(side)
+        side = side if side.dot(g.scene_up) >= 0 else -side
+        back = along - along.dot(up) * up - along.dot(side) * side
+        if np.linalg.norm(back) > 1e-9:
+            back /= np.linalg.norm(back)
+            back = back if back.dot(pts[0] - pts[-1]) >= 0 else -back
+        view = math.cos(OBLIQUE) * side + math.sin(OBLIQUE) * back + ELEVATION * up
+    view = view / np.linalg.norm(view)
+    right = np.cross(up, view)
+    right /= np.linalg.norm(right)
+    screen_up = np.cross(view, right)
+    rel = framed - g.center
+    tan_v = math.tan(FOV / 2)
+    # Perspective: a point at depth z (towards the camera) fits when |x| <= tan (D - z).
+    z = rel @ view
+    need_w = z + margin * np.abs(rel @ right) / (tan_v * aspect)
+    need_h = z + margin * np.abs(rel @ screen_up) / ((1.0 - bottom) * tan_v)
+    distance = max(float(np.max(need_w)), float(np.max(need_h)), 1e-2 * g.extent)
+    reach = max([np.linalg.norm(s.center - g.center) + s.radius for s in g.spheres] + [g.extent])
+    # Aim below the centre so that it shows in the middle of the uncovered part.
+    look_at = g.center - bottom * tan_v * distance * screen_up
+    return Camera(g.center + distance * view, look_at, up,
+                  near=1e-3 * distance, far=4.0 * (distance + reach))
+
+
+FOLLOW_DISTANCE = 8.0  # follow camera distance in vehicle lengths
+
+
+class Cameras:
+    """The cameras of the browsers watching one view: framed by `fit_camera` minding the
+    floating panel over the bottom of the canvas, refitted when a canvas changes shape."""
+
+    def __init__(self, covered_px: float) -> None:
+        self.covered_px = covered_px  # canvas pixels hidden under the floating plot panel
+        self.clients: dict[int, viser.ClientHandle] = {}
+        self._fit_aspect: dict[int, float] = {}
+        self._refit: Callable[[viser.ClientHandle], None] | None = None
+
+    def attach(self, client: viser.ClientHandle, refit: Callable[[viser.ClientHandle], None]
+               ) -> None:
+        self.clients[client.client_id] = client
+        self._refit = refit
+        client.camera.on_update(self._camera_update)
+
+    def detach(self, client: viser.ClientHandle) -> None:
+        self.clients.pop(client.client_id, None)
+        self._fit_aspect.pop(client.client_id, None)
+
+    def chosen(self, clients: Iterable[viser.ClientHandle] | None) -> list[viser.ClientHandle]:
+        return list(self.clients.values()) if clients is None else list(clients)
+
+    def frame(self, g: Geometry, view: np.ndarray | None,
+              clients: Iterable[viser.ClientHandle] | None = None,
+              follow: np.ndarray | None = None, vehicle_size: float = 1.0) -> None:
+        """Point each camera at `g` (from direction `view` if given), or chase `follow`."""
+        for client in self.chosen(clients):
+            camera = client.camera
+            covered = self.covered_px / max(camera.image_height, 1)
+            cam = fit_camera(g, camera.aspect, bottom=covered, view=view)
+            self._fit_aspect[client.client_id] = camera.aspect
+            with client.atomic():
+                camera.fov = FOV
+                camera.near, camera.far = cam.near, cam.far
+                camera.max_orbit_distance = cam.far / 2
+                camera.up_direction = tuple(cam.up)
+                if follow is not None:
+                    self._chase(client, g, follow, vehicle_size)
+                else:
+                    camera.position = tuple(cam.position)
+                    camera.look_at = tuple(cam.look_at)
+
+    def chase(self, g: Geometry, target: np.ndarray, vehicle_size: float) -> None:
+        for client in self.chosen(None):
+            self._chase(client, g, target, vehicle_size)
+
+    @staticmethod
+    def _chase(client: viser.ClientHandle, g: Geometry, target: np.ndarray,
+               vehicle_size: float) -> None:
+        """Chase camera: a few vehicle lengths behind the overview's line of sight."""
+        camera = client.camera
+        cam = fit_camera(g, camera.aspect)
+        back = cam.position - cam.look_at
+        back /= np.linalg.norm(back)
+        distance = FOLLOW_DISTANCE * vehicle_size
+        with client.atomic():
+            camera.look_at = tuple(target)
+            camera.position = tuple(target + distance * back)
+
+    def _camera_update(self, camera: viser.CameraHandle) -> None:
+        """Refit when the canvas changes shape (panels docking, window resized): viser does
+        not say whether a camera message comes from the user, so a resize wins."""
+        client = camera.client
+        fitted = self._fit_aspect.get(client.client_id)
+        if fitted is not None and abs(camera.aspect - fitted) > 0.01 and self._refit:
+            self._refit(client)

@@ -1,0 +1,54 @@
+"""The floating side panel: the plots of the solution on screen, a map (e.g. the launch-C3
+contour with the solution marked) and the About page (equations, paper, published numbers).
+A figure is sent to the browser only when it changed."""
+
+from __future__ import annotations
+
+import plotly.graph_objects as go
+import viser
+
+from solvers.presentation import GridMap
+
+from ..plots import figure_aspect, make_figure, map_figure
+
+PLOT_PANEL = (620, 300)  # px: plots float in the canvas's bottom-right corner
+PANEL_GAP = 10  # px from the canvas edges
+PLOT_ASPECT = 0.37  # height/width of the figure inside that panel
+
+
+class SidePanel:
+    """Plots, Map and About tabs in a panel floating over the 3D view."""
+
+    def __init__(self, gui: viser.GuiApi) -> None:
+        self.panel = gui.add_panel()
+        with self.panel.add_tab("Plots", viser.Icon.CHART_LINE):
+            self.plot = gui.add_plotly(make_figure([]), aspect=PLOT_ASPECT)
+        with self.panel.add_tab("Map", viser.Icon.MAP):
+            self.map_note = gui.add_markdown("This mission has no map.")
+            self.map_plot = gui.add_plotly(go.Figure(), aspect=PLOT_ASPECT, visible=False)
+        with self.panel.add_tab("About", viser.Icon.INFO_CIRCLE):
+            self.about = gui.add_html("")
+        self.panel.float(x=-PANEL_GAP, y=-PANEL_GAP, width=PLOT_PANEL[0], height=PLOT_PANEL[1])
+        self.figure = make_figure([])
+        self.n_series = 0
+        self._map_key: tuple | None = None
+
+    def show_figure(self, figure: go.Figure, n_series: int) -> None:
+        self.figure, self.n_series = figure, n_series
+        self.plot.figure = figure
+        self.plot.aspect = figure_aspect(max(n_series, 1), PLOT_ASPECT)
+
+    def resend(self) -> None:
+        """Send the current figure again (its time marker moved)."""
+        self.plot.figure = self.figure
+
+    def show_map(self, grid_map: GridMap | None, dark: bool) -> None:
+        """The first map of the presentation, re-sent only when it changed."""
+        key = None if grid_map is None else (id(grid_map.z), grid_map.marker, dark)
+        if key == self._map_key:
+            return
+        self._map_key = key
+        self.map_note.visible = grid_map is None
+        self.map_plot.visible = grid_map is not None
+        if grid_map is not None:
+            self.map_plot.figure = map_figure(grid_map, dark)

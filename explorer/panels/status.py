@@ -1,0 +1,170 @@
+"""The status panel: what the last solve returned (status, cost, quantities, solver line,
+re-propagation check), progress while a solve runs, the legend of the 3D view, a details
+table, and error notifications that close when the next answer arrives."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+
+import viser
+
+from solvers.solution import Solution
+
+_UNIT_TOKENS = {"m", "s", "kg", "km", "rad", "deg", "N", "s2", "s3", "m2"}
+KEPT = "_showing the last good trajectory (dimmed)_"
+SHOWN = 3  # quantities and check items in the status; all of them are in the details
+# Below these a number is numerical noise: shown as "< limit unit".
+NOISE = {"m": 1e-6, "m/s": 1e-9, "rad": 1e-12, "rad/s": 1e-12, "kg": 1e-9, "s": 1e-9}
+
+
+def check_label(key: str) -> tuple[str, str]:
+    """Split a check key such as "radial_speed_m_s" into ("radial speed", "m/s")."""
+    tokens = key.split("_")
+    split = len(tokens)
+    while split > 1 and tokens[split - 1] in _UNIT_TOKENS:
+        split -= 1
+    name, unit = " ".join(tokens[:split]), tokens[split:]
+    return name, "/".join(unit) if unit else ""
+
+
+def fmt(value: float, unit: str = "", digits: int = 6) -> str:
+    """A number for a person: "n/a" when undefined, "< 1e-06 m" when below noise, else
+    `digits` significant digits."""
+    if value is None or not math.isfinite(value):
+        return "n/a"
+    floor = NOISE.get(unit)
+    if floor is not None and abs(value) < floor:
+        return f"< {floor:g} {unit}".rstrip()
+    return f"{value:.{digits}g} {unit}".rstrip()
+
+
+def headline(sol: Solution) -> str:
+    """Status, cost (when the answer is good) and the mission's quantities of interest."""
+    parts = [f"**{sol.status}**"]
+    if sol.ok and math.isfinite(sol.cost.value):
+        parts.append(f"{sol.cost.label} **{fmt(sol.cost.value, sol.cost.unit)}**")
+    if sol.ok:
+        parts += [f"{q.label} {fmt(q.value, q.unit)}" for q in sol.quantities.values()
+                  if q.label != sol.cost.label][:SHOWN]
+    return " · ".join(parts)
+
+
+def solver_line(sol: Solution) -> str:
+    """Method, mesh, iterations and wall time."""
+    method = f"{sol.method}/{sol.backend}" if sol.backend else sol.method
+    parts = [f"{method}, {sol.nodes} nodes"]
+    if "iterations" in sol.stats:
+        parts.append(f"{int(sol.stats['iterations'])} iterations")
+    if "wall_s" in sol.stats:
+        parts.append(f"{1e3 * sol.stats['wall_s']:.0f} ms")
+    return " · ".join(parts)
+
+
+def check_line(sol: Solution) -> str:
+    """Re-propagation miss (empty until the deferred check has run)."""
+    items = []
+    for key, value in list(sol.check.items())[:SHOWN]:
+        name, unit = check_label(key)
+        items.append(f"{name} {fmt(value, unit, 2)}")
+    if not items:
+        return ""
+    more = " · …" if len(sol.check) > SHOWN else ""
+    return "re-propagation check: " + " · ".join(items) + more
+
+
+def details_markdown(sol: Solution) -> str:
+    """Every quantity, statistic and check of a solution as a table (the status shows only
+    the first few)."""
+    rows = [f"| {sol.cost.label} (the cost) | {fmt(sol.cost.value, sol.cost.unit, 8)} |"]
+    rows += [f"| {q.label} | {fmt(q.value, q.unit, 8)} |" for q in sol.quantities.values()
+             if q.label != sol.cost.label]
+    for key, v in sol.stats.items():
+        if key == "wall_s":
+            rows.append(f"| solve time | {1e3 * v:.0f} ms |")
+        else:
+            rows.append(f"| {key.replace('_', ' ')} | {fmt(v, '', 6)} |")
+    for key, value in sol.check.items():
+        name, unit = check_label(key)
+        rows.append(f"| check: {name} | {fmt(value, unit, 3)} |")
+    return "\n".join(["| | |", "|---|---|", *rows])
+
+
+def result_markdown(sol: Solution, checking: bool = False, kept: bool = False) -> str:
+    """The full status; `kept` notes that an older good trajectory stays on screen."""
+    lines = [headline(sol), solver_line(sol)]
+    if not sol.ok:
+        lines.append(f"_{sol.message}_")
+        if kept:
+            lines.append(KEPT)
+    check = check_line(sol)
+    lines.append(check if check else "re-propagation check running…" if checking else "")
+    return "  \n".join(line for line in lines if line)
+
+
+def progress_markdown(iteration: int, previous: str, elapsed: float | None = None,
+                      limit: float | None = None, message: str = "") -> str:
+    """'solving… iteration k (t s of the limit)' above the previous result, which stays
+    readable; `message` is the solver's (or the comparison's) progress note."""
+    head = f"**solving… iteration {iteration}**"
+    if elapsed is not None:
+        head += f" ({elapsed:.1f} s" + (f" of {limit:g} s limit)" if limit else ")")
+    if message:
+        head += f"  \n_{message}_"
+    return f"{head}  \n{previous}" if previous else head
+
+
+def rejected_markdown(message: str, kept: bool) -> str:
+    return f"**request rejected**  \n{message}" + (f"  \n{KEPT}" if kept else "")
+
+
+class StatusPanel:
+    """Status line, progress bar, legend and details of one view."""
+
+    def __init__(self, gui: viser.GuiApi) -> None:
+        self.status = gui.add_markdown("**starting…** the first solve is on its way", order=0)
+        self.progress = gui.add_progress_bar(0.0, animated=True, visible=False, order=1)
+        self.legend = gui.add_html("", order=2)
+        with gui.add_folder("Result details", order=3, expand_by_default=False):
+            self.details = gui.add_markdown("")
+        self.result_md = ""
+        self._notices: list[viser.NotificationHandle] = []
+
+    def show_progress(self, iteration: int, elapsed: float, limit: float | None,
+                      message: str) -> None:
+        self.progress.visible = True
+        self.progress.value = min(100.0, 100.0 * elapsed / limit) if limit else 100.0
+        self.status.content = progress_markdown(iteration, self.result_md, elapsed, limit,
+                                                message)
+
+    def show_result(self, sol: Solution, checking: bool, kept: bool) -> None:
+        self.progress.visible = False
+        self.result_md = result_markdown(sol, checking=checking, kept=kept)
+        self.status.content = self.result_md
+        self.details.content = details_markdown(sol)
+
+    def show_rejected(self, message: str, kept: bool) -> None:
+        self.progress.visible = False
+        self.result_md = rejected_markdown(message, kept)
+        self.status.content = self.result_md
+
+    def restore(self) -> None:
+        """Back to the last result (a comparison's progress is over)."""
+        self.progress.visible = False
+        self.status.content = self.result_md
+
+    def clear(self) -> None:
+        self.result_md = ""
+        self.legend.content = self.details.content = ""
+
+    def notify(self, clients: Iterable[viser.ClientHandle], title: str, body: str) -> None:
+        """One error notification per browser at a time: a newer one replaces the older,
+        and the next answer closes it (`clear_notices`)."""
+        self.clear_notices()
+        self._notices = [c.add_notification(title, body, color="red", auto_close_seconds=8.0)
+                         for c in list(clients)]
+
+    def clear_notices(self) -> None:
+        for notice in self._notices:
+            notice.remove()
+        self._notices = []

@@ -1,0 +1,411 @@
+"""A `View` is a `Session` shown through one GUI and one scene: it builds the panels, listens
+to the session, and turns each solution into a presentation (the mission's view), geometry
+and plots. By default each browser tab has its own view (`client.gui`/`client.scene`); in
+shared mode one view is built on the server-wide GUI and scene, mirrored to every tab.
+
+Everything is generated from the mission contract: no mission has GUI code of its own.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections.abc import Callable, Iterable, Sequence
+from contextlib import AbstractContextManager
+from typing import Any
+
+import numpy as np
+import viser
+
+from solvers.mission import Mission
+from solvers.presentation import Presentation
+from solvers.solution import Solution
+
+from .about import about_html
+from .camera import Cameras, top_view
+from .geometry import PALETTE, WARNING, Geometry, build_geometry, ghost_geometry, path_segments
+from .legend import legend_html
+from .panels.compare import ComparePanel, comparison_html
+from .panels.export import ExportPanel
+from .panels.play import CAMERAS, PlayPanel
+from .panels.setup import Controls
+from .panels.side import PANEL_GAP, PLOT_PANEL, SidePanel
+from .panels.status import StatusPanel
+from .player import Track
+from .plots import make_figure, set_time_marker
+from .readouts import readout_markdown, readouts
+from .runners import Runner
+from .scene import SceneView
+from .session import DEFAULT_TIME_LIMIT, Request, Session
+
+PROGRESS_INTERVAL = 0.1  # s between "solving… iteration k" updates
+DIM_AFTER = 0.25  # s: a solve slower than this dims the old trajectory while it runs
+REPLAY_STEP_S = 0.45  # s per iterate in the iteration replay
+
+
+def apply_theme(gui: viser.GuiApi, dark: bool) -> None:
+    """Classroom theme: no share button (it needs the internet), panel docked left."""
+    gui.configure_theme(dark_mode=dark, show_share_button=False, control_width="medium",
+                        brand_color=(255, 140, 0))
+
+
+class View:
+    """One session shown through one GUI and scene; `attach` the browsers that watch it
+    (one per tab, or every tab in shared mode). Implements `SessionListener`."""
+
+    def __init__(self, gui: viser.GuiApi, scene: viser.SceneApi,
+                 atomic: Callable[[], AbstractContextManager[Any]], missions: Sequence[Mission],
+                 mission: Mission, method: str | None = None, nodes: int | None = None,
+                 time_limit: float | None = DEFAULT_TIME_LIMIT,
+                 runner: Runner | None = None) -> None:
+        self.gui = gui
+        self.atomic = atomic  # groups one update into one browser frame
+        self.session = Session(mission, method=method, nodes=nodes, auto=False,
+                               time_limit=time_limit, runner=runner)
+        self.dark = True
+        self.drawn = 0  # solutions drawn so far (capture waits on this)
+        self._lock = threading.RLock()  # scene and figure updates come from several threads
+        self._closed = threading.Event()
+        self._last_progress = 0.0
+        self._dimmed = False
+        self._failed = False
+        self._geometry: Geometry | None = None
+        self._shown: tuple[Solution, Presentation, bool] | None = None
+        self._framed: tuple[str, float] | None = None
+        self._comparison: list[Solution] = []
+        self._replay: threading.Thread | None = None
+
+        self.status = StatusPanel(gui)
+        tabs = gui.add_tab_group(order=5)
+        tab_setup = tabs.add_tab("Setup", viser.Icon.ADJUSTMENTS)
+        self.controls = Controls(gui, self.session, missions, order=10, container=tab_setup)
+        with tabs.add_tab("Play", viser.Icon.PLAYER_PLAY):
+            self.play = PlayPanel(gui, self.show_time, self.apply_camera, self.reset_camera,
+                                  self._draw_ghosts, self.replay_iterations)
+        with tabs.add_tab("Compare", viser.Icon.LAYOUT_COLUMNS):
+            self.compare = ComparePanel(gui, self.session.compare,
+                                        lambda: self.clear_comparison(redraw=True))
+        with tabs.add_tab("Export", viser.Icon.DOWNLOAD):
+            self.export = ExportPanel(gui, self.current, self.session.time_limit,
+                                      lambda s: self.session.set_time_limit(s), self.set_dark)
+        self.side = SidePanel(gui)
+        self.cameras = Cameras(PLOT_PANEL[1] + PANEL_GAP)
+        self._build_commands()
+        self.scene = SceneView(scene, dark=self.dark)
+        self.session.listeners.append(self)
+        self.on_config(self.session)
+        self.session.auto = True
+        self.session.submit()
+
+    def _build_commands(self) -> None:
+        play = self.gui.add_command("Play / pause animation", hotkey="space",
+                                    icon=viser.Icon.PLAYER_PLAY)
+        play.on_trigger(lambda _: self.toggle_play())
+        reset = self.gui.add_command("Reset camera", hotkey="R", icon=viser.Icon.FOCUS_CENTERED)
+        reset.on_trigger(lambda _: self.reset_camera())
+
+    # ---- what is on screen ------------------------------------------------------------------
+    @property
+    def geometry(self) -> Geometry | None:
+        """What the scene shows now (display units), None before the first solution."""
+        return self._geometry
+
+    @property
+    def comparison(self) -> list[Solution]:
+        """The solutions of the comparison on screen (empty when none)."""
+        return self._comparison
+
+    @property
+    def presentation(self) -> Presentation | None:
+        return self._shown[1] if self._shown is not None else None
+
+    def current(self) -> tuple[Solution | None, Presentation | None]:
+        """The good solution on screen and its presentation."""
+        good = self.session.last_good
+        if good is None or self._shown is None or self._shown[0] is not good:
+            return good, self.present(good) if good is not None else None
+        return good, self._shown[1]
+
+    @property
+    def track(self) -> Track | None:
+        return self.play.track
+
+    @property
+    def t_anim(self) -> float:
+        return self.play.t
+
+    @property
+    def playing(self) -> bool:
+        return self.play.playing
+
+    def toggle_play(self) -> None:
+        self.play.toggle()
+
+    def scene_vehicle_position(self) -> np.ndarray:
+        """Where the vehicle is drawn now (display units)."""
+        return self.scene.vehicle_position
+
+    # ---- browsers watching this view ----------------------------------------------------
+    def attach(self, client: viser.ClientHandle) -> None:
+        """A browser starts watching: frame the current solution in its camera."""
+        self.cameras.attach(client, lambda c: self.apply_camera([c]))
+        if self._geometry is not None:
+            self.apply_camera([client])
+
+    def detach(self, client: viser.ClientHandle) -> None:
+        self.cameras.detach(client)
+
+    def close(self) -> None:
+        self._closed.set()
+        self.play.close()
+        self.session.close()
+
+    # ---- SessionListener ----------------------------------------------------------------
+    def on_config(self, session: Session) -> None:
+        self.controls.rebuild()
+        self.compare.rebuild(session.mission)
+        self.side.about.content = about_html(session.mission, session.method)
+        self.clear_comparison(redraw=False)
+        shown = self._shown[0].mission if self._shown is not None else None
+        if shown is not None and shown != session.mission.key:
+            with self._lock:  # another mission: its first solve may fail, show nothing old
+                self.scene.clear()
+                self._geometry, self._shown, self._framed = None, None, None
+                self.play.set_track(None)
+                self.side.show_figure(make_figure([], dark=self.dark), 0)
+            self.status.clear()
+            self.play.readout.content = ""
+            self.play.t = 0.0
+
+    def on_view(self, session: Session) -> None:
+        """A view option changed: redraw what is on screen from the same solution."""
+        if self._shown is not None:
+            sol, _, dim = self._shown
+            self._draw(sol, dim)
+
+    def on_submit(self, request: Request) -> None:
+        self._dimmed = False
+
+    def on_progress(self, request: Request, iteration: int, message: str) -> None:
+        now = time.monotonic()
+        if now - self._last_progress < PROGRESS_INTERVAL:
+            return
+        self._last_progress = now
+        elapsed = now - request.started
+        if elapsed < DIM_AFTER:
+            return
+        if not self._dimmed and not request.compare:
+            self._dimmed = True
+            good = self.session.last_good
+            if good is not None and good.mission == request.mission.key:
+                self._draw(good, dim=True)
+        self.status.show_progress(iteration, elapsed, request.time_limit, message)
+
+    def on_result(self, request: Request, solution: Solution) -> None:
+        good = self.session.last_good
+        self.clear_comparison(redraw=False)
+        self.status.clear_notices()
+        if solution.ok:
+            self._draw(solution, dim=False)
+            self._set_failed(None)
+        else:
+            if good is not None:
+                self._draw(good, dim=True)
+            self._set_failed(solution if solution.has_trajectory else None)
+            self.status.notify(self.cameras.clients.values(),
+                               f"{solution.status}: {solution.mission}", solution.message)
+        self.status.show_result(solution, checking=solution.ok,
+                                kept=good is not None and not solution.ok)
+
+    def on_check(self, request: Request, solution: Solution) -> None:
+        self.status.show_result(solution, checking=False, kept=False)
+        if solution.references and self._shown is not None and self._shown[0] is solution:
+            self._draw(solution, dim=False)  # the check added a reference to draw
+
+    def on_error(self, request: Request, message: str) -> None:
+        good = self.session.last_good
+        if good is not None:
+            self._draw(good, dim=True)
+        self.status.notify(self.cameras.clients.values(), "request rejected", message)
+        self.status.show_rejected(message, kept=good is not None)
+
+    def on_compare(self, request: Request, solutions: list[Solution]) -> None:
+        self.status.restore()
+        self.show_comparison(solutions)
+
+    # ---- drawing ----------------------------------------------------------------------
+    def present(self, sol: Solution) -> Presentation:
+        return self.session.mission.present(sol, self.session.view)
+
+    def _draw(self, sol: Solution, dim: bool) -> None:
+        if not sol.has_trajectory:
+            return
+        pres = self.present(sol)
+        geometry = build_geometry(pres, sol.t, sol.arcs, dim=dim)
+        figure = make_figure(pres.plots, dim=dim, dark=self.dark, time_unit=pres.time_unit,
+                             time_scale=pres.time_scale)
+        with self._lock, self.atomic():
+            self._shown = (sol, pres, dim)
+            self.scene.draw(geometry)
+            self._geometry = geometry
+            if not dim:
+                self._new_track(sol, pres, geometry)
+            set_time_marker(figure, len(pres.plots),
+                            self.play.t * pres.time_scale if self.track else None, self.dark)
+            self.side.show_figure(figure, len(pres.plots))
+            self.side.show_map(pres.maps[0] if pres.maps else None, self.dark)
+            self._draw_ghosts()
+        self.status.legend.content = legend_html(geometry, dim=dim, failed=self._failed)
+        framed = (sol.mission, round(float(np.log2(max(geometry.extent, 1e-12))), 0))
+        if framed != self._framed:  # a new mission, or the path changed its scale
+            self._framed = framed
+            self.apply_camera()
+        self.drawn += 1
+
+    def _set_failed(self, sol: Solution | None) -> None:
+        """Show a failed attempt's trajectory in the warning colour (or remove it)."""
+        self._failed = sol is not None
+        segments = path_segments(self.present(sol)) if sol is not None else np.zeros((0, 2, 3))
+        colors = np.broadcast_to(np.array(WARNING, np.uint8), segments.shape)
+        with self._lock:
+            self.scene.set_layer("failed", segments, colors, thickness=3.0)
+        if self._geometry is not None:
+            self.status.legend.content = legend_html(self._geometry, dim=self._failed,
+                                                     failed=self._failed)
+
+    def _draw_ghosts(self) -> None:
+        pres = self.presentation
+        with self._lock:
+            if self.play.ghosts.value and pres is not None and pres.iterates:
+                segs, cols = ghost_geometry(pres, dark=self.dark)
+                self.scene.set_layer("ghosts", segs, cols, thickness=1.5)
+            else:
+                self.scene.clear_layers("ghosts")
+
+    def set_dark(self, dark: bool) -> None:
+        self.dark = dark
+        apply_theme(self.gui, dark)
+        with self._lock:
+            self.scene.set_dark(dark)
+        if self._shown is not None:
+            sol, _, dim = self._shown
+            self._draw(sol, dim)
+
+    # ---- comparison -------------------------------------------------------------------
+    def show_comparison(self, solutions: list[Solution]) -> None:
+        self._comparison = solutions
+        colors = [PALETTE[i % len(PALETTE)] for i in range(len(solutions))]
+        presentations = [self.present(s) if s.has_trajectory else None for s in solutions]
+        with self._lock:
+            self.scene.show_solution(False)
+            self.scene.clear_layers("compare")
+            for i, (pres, color) in enumerate(zip(presentations, colors, strict=True)):
+                if pres is not None:
+                    segs = path_segments(pres)
+                    self.scene.set_layer(f"compare/{i}", segs,
+                                         np.broadcast_to(np.array(color, np.uint8), segs.shape),
+                                         thickness=3.5)
+            labels = [s.method for s in solutions]
+            first = next((p for p in presentations if p is not None), None)
+            figure = make_figure([], dark=self.dark, overlays=[
+                (label, color, pres.plots) for label, color, pres
+                in zip(labels, colors, presentations, strict=True) if pres is not None],
+                time_unit=first.time_unit if first else "s",
+                time_scale=first.time_scale if first else 1.0)
+            self.side.show_figure(figure, 0)
+        self.compare.table.content = comparison_html(self.session.mission, solutions, colors)
+        if self._geometry is not None:
+            self.status.legend.content = legend_html(self._geometry, comparison=list(zip(
+                labels, colors, strict=True)))
+
+    def clear_comparison(self, redraw: bool) -> None:
+        if not self._comparison and not redraw:
+            return
+        self._comparison = []
+        self.compare.table.content = ""
+        with self._lock:
+            self.scene.clear_layers("compare")
+            self.scene.show_solution(True)
+        good = self.session.last_good
+        if redraw and good is not None:
+            self._draw(good, dim=False)
+
+    # ---- iteration replay ---------------------------------------------------------------
+    def replay_iterations(self) -> None:
+        pres = self.presentation
+        if pres is None or not pres.iterates:
+            self.play.replay_text.content = "_this method records no iterates_"
+            return
+        if self._replay is not None and self._replay.is_alive():
+            return
+        self._replay = threading.Thread(target=self._run_replay, args=(pres,), daemon=True,
+                                        name="explorer-replay")
+        self._replay.start()
+
+    def _run_replay(self, pres: Presentation) -> None:
+        """Hide the optimum, add the iterates one at a time (older ones fading), then show
+        the optimum again."""
+        with self._lock:
+            self.scene.show_solution(False)
+        n = len(pres.iterates)
+        for k in range(1, n + 1):
+            if self._closed.is_set() or self.presentation is not pres:
+                break
+            segs, cols = ghost_geometry(pres, upto=k, dark=self.dark)
+            with self._lock:
+                self.scene.set_layer("ghosts", segs, cols, thickness=2.0)
+            self.play.replay_text.content = (f"iterate {k} of {n} (solver iteration "
+                                             f"{pres.iterates[k - 1][0]})")
+            time.sleep(REPLAY_STEP_S)
+        self.play.replay_text.content = f"{n} iterates recorded; the optimum is drawn in colour"
+        with self._lock:
+            self.scene.show_solution(not self._comparison)
+        self._draw_ghosts()
+
+    # ---- animation ----------------------------------------------------------------------
+    def _new_track(self, sol: Solution, pres: Presentation, geometry: Geometry) -> None:
+        track = Track(sol, pres)
+        self.play.set_track(track, pres.time_unit, pres.time_scale)
+        self.scene.set_vehicle(pres.vehicle, geometry.extent)
+        self.show_time(self.play.t, slow=True)
+
+    def show_time(self, t: float, slow: bool) -> None:
+        """Move the vehicle (and a following camera) to time t; `slow` also updates the
+        read-outs and the plots' marker."""
+        track, shown = self.play.track, self._shown
+        if track is None or shown is None:
+            return
+        sol, pres, _ = shown
+        pose = track.pose(t)
+        with self._lock:
+            self.scene.move_vehicle(pose)
+            self.scene.move_bodies(t)
+        if self.play.camera_mode.value == "follow vehicle" and self._geometry is not None:
+            self.cameras.chase(self._geometry, pose.position, self.scene.vehicle_size)
+        if not slow:
+            return
+        self.play.readout.content = readout_markdown(readouts(sol, pres, track, t), pres.frame)
+        with self._lock:
+            if not self._comparison:
+                set_time_marker(self.side.figure, self.side.n_series, t * pres.time_scale,
+                                self.dark)
+                self.side.resend()
+
+    # ---- camera -------------------------------------------------------------------------
+    def reset_camera(self) -> None:
+        if self.play.camera_mode.value != CAMERAS[0]:
+            self.play.camera_mode.value = CAMERAS[0]  # runs apply_camera through its callback
+        else:
+            self.apply_camera()
+
+    def apply_camera(self, clients: Iterable[viser.ClientHandle] | None = None) -> None:
+        """Point the cameras (of `clients`, default all watching) by the camera mode."""
+        g = self._geometry
+        if g is None:
+            return
+        mode = self.play.camera_mode.value
+        follow = None
+        if mode == "follow vehicle" and self.track is not None:
+            follow = self.track.pose(self.play.t).position
+        self.cameras.frame(g, top_view(g) if mode == "top view" else None, clients, follow,
+                           self.scene.vehicle_size)

@@ -1,1 +1,0 @@
-"""Indirect (Pontryagin) solutions used as independent checks of the direct transcriptions."""

@@ -1,0 +1,103 @@
+"""Mission `apollo-reentry`: Stoer & Bulirsch's Apollo-type lifting reentry with minimum
+convective heating (paper 004, example 2; SPEC M5 case 2).
+
+The three general methods solve the OCP of `problem.py` in the model's published units
+(1e5 ft, s; `model.py`), so the cost J is the number the paper prints; the solution is
+converted to SI at the interface (`problem.record`). An indirect multiple-shooting solution
+on the maximum principle (`model.solve_indirect`, started from a direct solution by
+`indirect_solution`) is the independent reference of the published numbers.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...methods import HERMITE_SIMPSON, LGL, MULTIPLE_SHOOTING
+from ...mission import Mission, SolveContext
+from ...ocp import OCP, OCPResult
+from ...problem import Method
+from ...solution import Solution
+from ...verify import repropagate
+from . import problem, view
+from .model import R_EARTH, ReentryExtremal, solve_indirect, to_model
+from .problem import P_V0, P_VF, P_XI0, P_XIF
+
+__all__ = ["MISSION", "R_EARTH", "ApolloReentry", "indirect_solution"]
+
+
+class ApolloReentry(Mission):
+    key = "apollo-reentry"
+    title = "Apollo reentry, minimum heating"
+    summary = "Steer the lift of an Apollo-type capsule to minimise the convective heat load."
+    source = problem.PAPER
+    params = problem.PARAMS
+    view_params = problem.VIEW_PARAMS
+    methods = (
+        MULTIPLE_SHOOTING.replace(
+            nodes=(4, 20, 60), backends=("ipopt", "sqp"),
+            summary=MULTIPLE_SHOOTING.summary + " RK4 steps of about 3 s. IPOPT is the "
+            "default: CasADi's SQP with a BFGS Hessian (the paper's kind of solver) leaves "
+            "the atmosphere from the paper's guess and stalls even when started at the "
+            "optimum."),
+        HERMITE_SIMPSON.replace(nodes=(4, 40, 300), backends=("ipopt",)),
+        LGL.replace(nodes=(10, 40, 80), backends=("ipopt",),
+                    summary=LGL.summary + " The sharp dip into the dense air needs about 40 "
+                    "nodes for 0.01 % (a global polynomial's weak spot)."),
+    )
+    published = problem.PUBLISHED
+    presets = problem.PRESETS
+    equations = problem.EQUATIONS
+    tolerances = problem.TOLERANCES
+    consistency = problem.CONSISTENCY
+    cost_label = "heat load J"
+    cost_unit = problem.COST_UNIT
+
+    def check_values(self, values: dict[str, float]) -> None:
+        problem.check_values(values)
+
+    def parameter_vector(self, values: dict[str, float]) -> np.ndarray:
+        return problem.parameter_vector(values)
+
+    def precheck(self, values: dict[str, float], p: np.ndarray) -> None:
+        problem.precheck(values)
+
+    def ocp(self, method: Method, values: dict[str, float]) -> OCP:
+        return problem.ocp()
+
+    def solve_direct(self, values: dict[str, float], method: Method, nodes: int, backend: str,
+                     warm: Solution | None, ctx: SolveContext) -> Solution:
+        """The general path, with multiple shooting's RK4 steps kept near 3 s whatever the
+        node count."""
+        if method.transcription == "multiple-shooting":
+            method = method.replace(options=(("substeps", problem.substeps(nodes)),))
+        return super().solve_direct(values, method, nodes, backend, warm, ctx)
+
+    def record(self, sol: Solution, res: OCPResult, p: np.ndarray) -> None:
+        problem.record(sol, res)
+
+    def terminal_miss(self, p: np.ndarray, x_final: np.ndarray) -> dict[str, float]:
+        return problem.terminal_miss(p, x_final)
+
+    def check_direct(self, ocp: OCP, p: np.ndarray, res: OCPResult) -> dict[str, float]:
+        """Re-propagate the method's own control (linear between nodes, or the LGL
+        polynomial) with DOP853 together with the heat load; the terminal miss in SI and the
+        relative mismatch of J."""
+        x0 = np.concatenate([p[P_V0 : P_XI0 + 1], [0.0]])
+        _, X = repropagate(problem.augmented(), p, x0, res.control, res.t_nodes,
+                           atol=np.array([1e-12, 1e-12, 1e-14, 1e-14]))
+        miss = self.terminal_miss(p, X[-1, :3])
+        miss["J_repropagated_rel_error"] = float(X[-1, 3] / res.cost - 1)
+        return miss
+
+    _present = staticmethod(view.present)
+
+
+def indirect_solution(sol: Solution, n_segments: int = 10) -> ReentryExtremal:
+    """The maximum-principle extremal started from a direct solution of this mission (its
+    dense SI samples converted back to the model's units); J and T in S&B units and s."""
+    p = problem.parameter_vector(sol.values)
+    return solve_indirect(sol.t, to_model(sol.x), sol.u[:, 0], p[P_V0 : P_XI0 + 1],
+                          p[P_VF : P_XIF + 1], n_segments=n_segments)
+
+
+MISSION = ApolloReentry()

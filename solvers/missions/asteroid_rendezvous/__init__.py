@@ -1,0 +1,65 @@
+"""Mission `asteroid-rendezvous`: fuel-optimal low-thrust rendezvous with the near-Earth
+asteroid 469219 Kamoʻoalewa (2016 HO3), paper 003 / SPEC M4.
+
+Two stages as in the paper: a particle swarm searches one of three kinds of impulsive
+transfer (`guess.py`), which seeds the general Hermite–Simpson transcription of the OCP in
+`problem.py` (free launch date, free flight time, the launch v∞ as static variables). The
+`impulsive` method shows the first stage alone; `launch_map.py` is paper 003's fig. 2 and its
+CLI (`python -m solvers launch-map`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...mission import Mission, SolveContext
+from ...ocp import OCP
+from ...problem import Method
+from ...solution import Solution
+from . import problem, view
+from .methods import IMPULSIVE, LOW_THRUST, solve_impulsive, solve_low_thrust
+
+
+class AsteroidRendezvous(Mission):
+    key = "asteroid-rendezvous"
+    title = "Low-thrust asteroid rendezvous"
+    summary = ("Fuel-optimal electric-propulsion transfer from Earth to asteroid Kamoʻoalewa "
+               "with free launch and arrival dates.")
+    source = problem.PAPER
+    params = problem.PARAMS
+    methods = (LOW_THRUST, IMPULSIVE)
+    published = problem.PUBLISHED
+    presets = problem.PRESETS
+    equations = problem.EQUATIONS
+    tolerances = problem.TOLERANCES
+    consistency = problem.CONSISTENCY
+    cost_label = "fuel"
+    cost_unit = "kg"
+
+    def check_values(self, values: dict[str, float]) -> None:
+        problem.check_values(values)
+
+    def help_tables(self) -> dict[str, str]:
+        guesses = "\n".join(f"- {i}: {name}" for i, name in enumerate(problem.GUESS_OPTIONS))
+        return {**super().help_tables(), "guesses": guesses}
+
+    def ocp(self, method: Method, values: dict[str, float]) -> OCP:
+        return problem.ocp()
+
+    def parameter_vector(self, values: dict[str, float]) -> np.ndarray:
+        return problem.parameter_vector(values)
+
+    def solves_itself(self, method: Method) -> bool:
+        """The Hermite–Simpson method starts from the swarm's guess (paper 003 §3.1)."""
+        return True
+
+    def _solve(self, values: dict[str, float], method: Method, nodes: int, backend: str,
+               warm: Solution | None, ctx: SolveContext) -> Solution:
+        if method.key == IMPULSIVE.key:
+            return solve_impulsive(self.key, values, nodes, ctx)
+        return solve_low_thrust(self, values, nodes, backend, warm, ctx)
+
+    _present = staticmethod(view.present)
+
+
+MISSION = AsteroidRendezvous()

@@ -1,0 +1,80 @@
+"""Mission `cw-rendezvous`: finite-thrust, minimum-burn-time rendezvous in a circular orbit
+(paper 000, SPEC M1), Clohessy–Wiltshire relative motion, fixed total time.
+
+Three methods: the paper's burn/coast arc transcription (`methods.py`: HS collocation on
+burns, the CW state transition matrix on coasts; IPOPT or the paper's exterior penalty
+method), and the general Hermite–Simpson and multiple-shooting transcriptions of the
+free-structure OCP in `problem.py` (an L1 cost whose bang–bang structure emerges by itself).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...methods import HERMITE_SIMPSON, MULTIPLE_SHOOTING
+from ...mission import Mission, SolveContext
+from ...ocp import OCP, OCPResult
+from ...problem import Method
+from ...solution import Solution
+from . import problem, view
+from .methods import PAPER_METHOD, solve_paper
+
+
+class CWRendezvous(Mission):
+    key = "cw-rendezvous"
+    title = "Finite-thrust rendezvous (CW)"
+    summary = "Minimum burn time rendezvous with a target in a circular orbit, fixed time."
+    source = problem.PAPER
+    params = problem.PARAMS
+    view_params = problem.VIEW_PARAMS
+    methods = (
+        PAPER_METHOD,
+        HERMITE_SIMPSON.replace(
+            label="Free structure: Hermite–Simpson, L1 cost",
+            summary="Hermite–Simpson over the whole transfer with |a u| <= s <= a and cost "
+                    "∫ s/a dt: the burn/coast structure is not imposed but emerges "
+                    "(bang–bang).",
+            nodes=(10, 60, 400)),
+        MULTIPLE_SHOOTING.replace(
+            label="Direct multiple shooting (free structure, L1 cost)",
+            summary="The free-structure problem by direct multiple shooting (RK4 per "
+                    "interval).",
+            nodes=(10, 60, 400)),
+    )
+    published = problem.PUBLISHED
+    presets = problem.PRESETS
+    equations = problem.EQUATIONS
+    tolerances = problem.TOLERANCES
+    consistency = problem.CONSISTENCY
+    cost_label = "burn time"
+    cost_unit = "s"
+
+    def parameter_vector(self, values: dict[str, float]) -> np.ndarray:
+        return problem.parameter_vector(values)
+
+    def ocp(self, method: Method, values: dict[str, float]) -> OCP:
+        return problem.free_ocp()
+
+    def record(self, sol: Solution, res: OCPResult, p: np.ndarray) -> None:
+        """Arcs from the throttle s, the acceleration (a_x, a_y, a_z) as the control."""
+        accel = sol.values["accel"]
+        sol.arcs = problem.arcs_from_throttle(res.t_nodes,
+                                              res.U[:, 3] > problem.THROTTLE_ON * accel)
+        sol.message = problem.explain(res.status, res.message, sol.values, "free-structure")
+        sol.quantities = problem.quantities(res.cost, accel, sol.arcs)
+        sol.control_names, sol.control_units = problem.CONTROLS, problem.CONTROL_UNITS
+        sol.node_u, sol.u = res.U[:, :3], res.U_dense[:, :3]
+
+    def check_direct(self, _ocp: OCP, p: np.ndarray, res: OCPResult) -> dict[str, float]:
+        """The method's control re-propagated in the CW model (the miss) and, beside it, in
+        full two-body gravity (the linearisation's error)."""
+        return problem.check(p, res.t_nodes, lambda t, x: res.control(t, x)[:3])
+
+    def _solve(self, values: dict[str, float], method: Method, nodes: int, backend: str,
+               warm: Solution | None, ctx: SolveContext) -> Solution:
+        return solve_paper(values, problem.parameter_vector(values), nodes, backend, warm, ctx)
+
+    _present = staticmethod(view.present)
+
+
+MISSION = CWRendezvous()

@@ -1,0 +1,67 @@
+"""Mission `lunar-landing`: minimum-fuel powered descent from perilune (paper 002, SPEC M3).
+
+Three methods solve the same problem: the paper's integral transformation with an Adams
+predictor-corrector and the generalised multiplier method (`methods.py`), and the general
+Hermite–Simpson and multiple-shooting transcriptions of the OCP in `problem.py`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...methods import HERMITE_SIMPSON, MULTIPLE_SHOOTING
+from ...mission import Mission, SolveContext
+from ...ocp import OCP, OCPResult
+from ...problem import Method
+from ...solution import Solution
+from . import problem, view
+from .methods import PAPER_METHOD, landing_quantities, solve_paper
+
+
+class LunarLanding(Mission):
+    key = "lunar-landing"
+    title = "Lunar soft landing"
+    summary = "Minimum-fuel powered descent from a 100 × 15 km orbit to a soft touchdown."
+    source = problem.PAPER
+    params = problem.PARAMS
+    methods = (PAPER_METHOD, HERMITE_SIMPSON.replace(nodes=(5, 30, 200)),
+               MULTIPLE_SHOOTING.replace(nodes=(5, 30, 200)))
+    published = problem.PUBLISHED
+    presets = problem.PRESETS
+    equations = problem.EQUATIONS
+    tolerances = problem.TOLERANCES
+    consistency = problem.CONSISTENCY
+    cost_label = "fuel"
+    cost_unit = "kg"
+
+    def check_values(self, values: dict[str, float]) -> None:
+        problem.check_values(values)
+
+    def parameter_vector(self, values: dict[str, float]) -> np.ndarray:
+        return problem.parameter_vector(values)
+
+    def precheck(self, values: dict[str, float], p: np.ndarray) -> None:
+        problem.precheck(p)
+
+    def ocp(self, method: Method, values: dict[str, float]) -> OCP:
+        return problem.ocp()
+
+    def record(self, sol: Solution, res: OCPResult, p: np.ndarray) -> None:
+        sol.quantities = landing_quantities(p, res.t_nodes, res.X)
+
+    def terminal_miss(self, p: np.ndarray, x_final: np.ndarray) -> dict[str, float]:
+        return problem.touchdown_miss(x_final)
+
+    def check_atol(self, ocp: OCP) -> np.ndarray:
+        return np.array([1e-6, 1e-9, 1e-12, 1e-14, 1e-9])
+
+    def _solve(self, values: dict[str, float], method: Method, nodes: int, backend: str,
+               warm: Solution | None, ctx: SolveContext) -> Solution:
+        p = problem.parameter_vector(values)
+        problem.precheck(p)
+        return solve_paper(values, p, nodes, warm, ctx)
+
+    _present = staticmethod(view.present)
+
+
+MISSION = LunarLanding()

@@ -1,0 +1,177 @@
+"""Lunar soft landing as a problem (paper 002, SPEC M3): parameters, the OCP the general
+methods solve, published numbers and presets."""
+
+from __future__ import annotations
+
+from functools import cache
+
+import casadi as ca
+import numpy as np
+
+from ...mission import Infeasible
+from ...ocp import OCP, Bounds, Guess
+from ...problem import Consistency, Param, Preset, Published
+from .model import MU_MOON, R_MOON, STATE_UNITS, STATES, descent_rhs, perilune_rate
+
+DEG = np.pi / 180
+PAPER = "Zhao & Gu 2008, Science & Technology Review 26(20) (paper 002)"
+# Parameter vector of the OCP: initial radius, initial angular rate, initial mass, thrust,
+# exhaust speed.
+P_R0, P_W0, P_M0, P_F, P_C = range(5)
+
+PARAMS = (
+    Param("altitude0", "initial altitude (perilune)", "m", 15e3, 1e3, 100e3, 500,
+          group="Initial orbit", display_unit="km", display_factor=1e-3,
+          help="Altitude above the mean lunar radius where the engine ignites."),
+    Param("omega_source", "initial angular rate from", "", 0, 0, 1, 1, group="Initial orbit",
+          options=("given ω0", "vis-viva from apolune"),
+          help="Use ω0 as given, or compute it as the perilune rate of an orbit whose apolune "
+               "altitude is set below."),
+    Param("omega0", "initial angular rate ω0", "rad/s", 9.65e-4, 1e-4, 1.4e-3, 1e-6,
+          group="Initial orbit", display_unit="mrad/s", display_factor=1e3,
+          help="The paper's 9.65e-4 rad/s is the 100 x 15 km perilune rate (9.6522e-4) rounded."),
+    Param("apolune_altitude", "apolune altitude", "m", 100e3, 1e3, 2000e3, 1e3,
+          group="Initial orbit", display_unit="km", display_factor=1e-3,
+          help="Used when ω0 comes from vis-viva."),
+    Param("mass0", "initial mass", "kg", 600.0, 50.0, 5000.0, 10.0, group="Vehicle"),
+    Param("thrust", "thrust F", "N", 2000.0, 10.0, 20000.0, 10.0, group="Vehicle",
+          help="Constant braking thrust (the paper's constant-thrust assumption)."),
+    Param("exhaust_speed", "exhaust speed Isp·g0", "m/s", 2940.0, 500.0, 5000.0, 10.0,
+          group="Vehicle", help="Isp = 300 s with g0 = 9.8 m/s² gives the paper's 2940 m/s."),
+)
+
+_TABLE_1 = "paper 002, table 1 (multiplier method)"
+_PONTRYAGIN = "paper 002, Pontryagin (indirect) reference"
+PUBLISHED = (
+    Published("tf", 398.03868, "s", _TABLE_1, rtol=1e-4,
+              note="0.01 %: the paper's method stops its multiplier iterations early"),
+    Published("fuel", 270.77461, "kg", _TABLE_1, rtol=1e-4),
+    Published("tf", 398.03873, "s", _PONTRYAGIN, rtol=1e-7,
+              note="to the printed digits: every method here converges to the true optimum"),
+    Published("fuel", 270.77465, "kg", _PONTRYAGIN, rtol=1e-7),
+)
+
+# Accuracy targets of the re-propagated touchdown (SI): 10 cm and 1 mm/s, a soft landing.
+# The direct methods land within millimetres; the paper's method (ABM4, 4 steps a segment)
+# within 6 cm at its 30 segments.
+TOLERANCES = {"altitude_m": 0.1, "speed_m_s": 1e-3}
+
+CONSISTENCY = (Consistency("tf", 1e-6, note="all three methods converge to the same optimum"),)
+
+PRESETS = (
+    Preset("Paper 002 case", {}, note="The published case: tf = 398.039 s, fuel 270.775 kg."),
+    Preset("From the 100 × 15 km orbit (vis-viva ω0)", {"omega_source": 1}),
+    Preset("Heavy lander, 3 kN", {"mass0": 1200.0, "thrust": 3000.0}),
+    Preset("Paper method, bad guess ψ = 60°", {"psi_guess": 60 * DEG}, method="paper",
+           cold=True),
+    Preset("Paper method, bad guess, small σ", {"psi_guess": 60 * DEG, "sigma0": 0.2},
+           method="paper", cold=True),
+    Preset("Coarse mesh (6 intervals)", {}, method="hermite-simpson", nodes=6),
+)
+
+EQUATIONS = (
+    ("Equations of motion (paper 002, eq. 1)",
+     r"\dot r = v,\quad \dot v = \frac{F}{m}\sin\psi - \frac{\mu}{r^2} + r\omega^2,"
+     r"\quad \dot\omega = -\frac{(F/m)\cos\psi + 2v\omega}{r},\quad \dot\theta = \omega,"
+     r"\quad \dot m = -\frac{F}{I_{sp} g_0}"),
+    ("Cost (eq. 2) and terminal conditions",
+     r"J = m(0) - m(t_f) = \frac{F t_f}{I_{sp} g_0},\qquad r(t_f) = R,\ v(t_f) = 0,\ "
+     r"\omega(t_f) = 0"),
+)
+
+
+def check_values(values: dict[str, float]) -> None:
+    if values["omega_source"] == 1 and values["apolune_altitude"] < values["altitude0"]:
+        raise ValueError(
+            f"perilune altitude {values['altitude0'] / 1e3:g} km is above the apolune "
+            f"altitude {values['apolune_altitude'] / 1e3:g} km"
+        )
+
+
+def parameter_vector(values: dict[str, float]) -> np.ndarray:
+    """The OCP's numeric parameters (SI) from validated mission values."""
+    r0 = R_MOON + values["altitude0"]
+    if values["omega_source"] == 1:
+        omega0 = perilune_rate(r0, R_MOON + values["apolune_altitude"])
+    else:
+        omega0 = values["omega0"]
+    return np.array([r0, omega0, values["mass0"], values["thrust"], values["exhaust_speed"]])
+
+
+def time_guess(p: np.ndarray) -> float:
+    """Burn time to cancel the orbital speed by the rocket equation (a cold-start guess)."""
+    dv = 1.05 * p[P_R0] * p[P_W0]
+    return float(p[P_M0] * p[P_C] / p[P_F] * (1 - np.exp(-dv / p[P_C])))
+
+
+def precheck(p: np.ndarray) -> None:
+    """Requests that cannot land at all get a clear reason before any solve."""
+    accel = p[P_F] / p[P_M0]
+    gravity = MU_MOON / p[P_R0] ** 2
+    if accel <= gravity:
+        raise Infeasible(
+            f"thrust-to-weight below 1: F/m0 = {accel:.3f} m/s² does not exceed lunar gravity "
+            f"{gravity:.3f} m/s² at ignition, so the lander cannot stop its descent: raise the "
+            "thrust or lower the initial mass"
+        )
+    burn_limit = p[P_M0] * p[P_C] / p[P_F]
+    if time_guess(p) > 0.98 * burn_limit:
+        raise Infeasible(
+            "the propellant cannot cancel the orbital speed: the rocket equation needs more "
+            "than the whole initial mass (raise the exhaust speed or lower the orbital rate)"
+        )
+
+
+@cache
+def ocp() -> OCP:
+    """Minimum fuel = minimum time (constant thrust) with free final time."""
+
+    def bounds(p):
+        return Bounds(
+            x_lb=np.array([R_MOON, -2e3, -1.0, -0.01, 1.0]),
+            x_ub=np.array([R_MOON + 300e3, 2e3, 3.0, 0.01, p[P_M0]]),
+            u_lb=np.array([-np.pi / 2]),
+            u_ub=np.array([np.pi / 2]),
+            T_lb=1.0,
+            T_ub=p[P_M0] * p[P_C] / p[P_F],
+        )
+
+    def guess(p):
+        T = time_guess(p)
+        return Guess(
+            x_final=np.array([R_MOON, 0.0, 0.5 * p[P_W0] * T, 0.0, p[P_M0] - p[P_F] * T / p[P_C]]),
+            u=np.array([0.0]),
+            T=T,
+        )
+
+    return OCP(
+        states=STATES,
+        state_units=STATE_UNITS,
+        controls=("psi",),
+        control_units=("rad",),
+        n_params=5,
+        dynamics=lambda x, u, p: descent_rhs(x, u[0], p[P_F], p[P_C]),
+        initial_state=lambda p: ca.vertcat(p[P_R0], 0, 0, p[P_W0], p[P_M0]),
+        terminal=lambda xf, p: ca.vertcat(xf[0] - R_MOON, xf[1], xf[3]),
+        terminal_names=("altitude", "radial speed", "angular rate"),
+        bounds=bounds,
+        guess=guess,
+        x_scale=np.array([1e4, 100.0, 0.1, 1e-3, 100.0]),
+        x_offset=np.array([R_MOON, 0.0, 0.0, 0.0, 0.0]),
+        u_scale=np.array([1.0]),
+        T_scale=100.0,
+        terminal_scale=np.array([1e3, 10.0, 1e-4]),
+        cost_scale=100.0,
+        mayer=lambda xf, T, p: p[P_M0] - xf[4],
+    )
+
+
+def touchdown_miss(x_final: np.ndarray) -> dict[str, float]:
+    """Miss of each terminal condition at the end of a re-propagation (SI)."""
+    r, v, _, w, _ = x_final
+    return {
+        "altitude_m": float(r - R_MOON),
+        "radial_speed_m_s": float(v),
+        "horizontal_speed_m_s": float(r * w),
+        "speed_m_s": float(np.hypot(v, r * w)),
+    }

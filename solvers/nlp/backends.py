@@ -1,0 +1,50 @@
+"""Every NLP back end in one registry: what it solves, where it comes from, how to call it.
+
+`kind` says which problems a back end takes:
+- "nlp": min f(z, p) s.t. lbg <= g(z, p) <= ubg, lbx <= z <= ubx, given symbolically; called
+  through `casadi_nlp.NLP(..., backend=key).solve(...)` (IPOPT, SQP, exterior penalty);
+- "equality": min f(z) s.t. h(z) = 0 from numeric value-and-gradient callbacks; called
+  through `multiplier_method.solve_multiplier_method` (paper 002);
+- "box": min of a vectorised black-box fitness over a box; called through
+  `particle_swarm.particle_swarm` (paper 003).
+A `Method` lists the keys of the back ends it can use; unknown keys are refused at import.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Backend:
+    key: str
+    label: str
+    kind: str
+    source: str
+    summary: str
+
+
+BACKENDS: dict[str, Backend] = {b.key: b for b in (
+    Backend("ipopt", "IPOPT (interior point)", "nlp", "Wächter & Biegler 2006, via CasADi",
+            "Primal-dual interior point with exact Hessians; warm-started from the previous "
+            "optimum's primal and dual values."),
+    Backend("sqp", "SQP (CasADi sqpmethod, BFGS Hessian)", "nlp", "CasADi sqpmethod + qrqp",
+            "Sequential quadratic programming with a limited-memory BFGS Hessian: the kind of "
+            "solver paper 004 used; slower than IPOPT here."),
+    Backend("penalty-bfgs", "Exterior penalty + BFGS (paper 000, eq. 12)", "nlp", "paper 000",
+            "An increasing quadratic penalty on the constraint violations, each subproblem by "
+            "BFGS: slow and inexact, which is the lesson."),
+    Backend("multiplier-bfgs", "Generalised multiplier method + BFGS (paper 002)", "equality",
+            "paper 002", "Augmented Lagrangian with the paper's penalty and multiplier "
+            "updates, BFGS inner solver."),
+    Backend("pso", "Particle swarm (paper 003)", "box", "paper 003 eqs. 17-21",
+            "A swarm with time-varying inertia and learning factors searching a box of "
+            "launch dates and flight times."),
+)}
+
+
+def backend(key: str) -> Backend:
+    """The registered back end `key`; `ValueError` names the known ones otherwise."""
+    if key not in BACKENDS:
+        raise ValueError(f"unknown NLP back end '{key}' (back ends: {', '.join(BACKENDS)})")
+    return BACKENDS[key]

@@ -1,0 +1,6 @@
+"""The solve service: worker processes that run every solve, build and check (see pool.py)."""
+
+from .pool import Job, SolveService
+from .protocol import CheckUpdate, SolveSpec
+
+__all__ = ["CheckUpdate", "Job", "SolveService", "SolveSpec"]

@@ -1,0 +1,366 @@
+"""The solve service: a pool of worker processes that every front end (explorer, CLI, sweeps)
+hands its solves to.
+
+A solve runs in a worker process, never in the caller's: a slow, stuck or crashing solve
+cannot hold or take down anyone else. A session sticks to the worker that solved its last
+request (its built NLPs are there); when that worker is busy, an idle one takes the request
+(the warm start travels with it). A solve still running at its time limit plus `grace` is
+killed with its worker; a worker that dies is replaced; either way only that solve's caller
+hears of it, with a status that says so. Jobs wait in one queue, first come, first served.
+"""
+
+from __future__ import annotations
+
+import collections
+import contextlib
+import itertools
+import multiprocessing as mp
+import os
+import threading
+import time
+from collections.abc import Callable, Sequence
+from multiprocessing.connection import Connection
+
+from ..registry import get_mission, list_missions
+from ..solution import Solution
+from .protocol import CheckUpdate, SolveSpec, light_warm
+from .worker import resident_bytes, worker_main
+
+Progress = Callable[[int, str], None]
+GRACE = 1.0  # s past a solve's time limit before its worker is killed
+MAX_EARLY_DEATHS = 3  # workers dying before they are ready, in a row, before giving up
+RSS_BUDGET = 700 * 2**20  # bytes per worker before it empties its NLP cache or retires
+CRASHED = ("the solver process stopped unexpectedly ({why}); the last good answer is kept — "
+           "try again, or another method or node count")
+
+
+class Job:
+    """One solve handed to the service: wait for `result()`, then (optionally) `check()`."""
+
+    def __init__(self, service: SolveService, job_id: int, spec: SolveSpec, session: str,
+                 progress: Progress | None) -> None:
+        self.service, self.id, self.spec = service, job_id, spec
+        self.session, self.progress = session, progress
+        self.solution: Solution | None = None
+        self.error: str | None = None
+        self.done = threading.Event()
+        self.checked = threading.Event()
+        self.worker: int | None = None
+        self.started: float | None = None
+
+    @property
+    def deadline(self) -> float | None:
+        limit = self.spec.time_limit
+        if self.started is None or limit is None:
+            return None
+        return self.started + limit + self.service.grace
+
+    def result(self, timeout: float | None = None) -> Solution:
+        """The answer (any status); `ValueError` for bad input, `TimeoutError` if none came
+        within `timeout`."""
+        if not self.done.wait(timeout):
+            raise TimeoutError(f"no answer within {timeout:g} s")
+        if self.error is not None:
+            raise ValueError(self.error)
+        assert self.solution is not None
+        return self.solution
+
+    def check(self, timeout: float | None = None) -> bool:
+        """Wait until the re-propagation check has been filled into `result()`."""
+        return self.checked.wait(timeout)
+
+    def cancel(self) -> None:
+        self.service.cancel(self)
+
+    def _finish(self, solution: Solution | None = None, error: str | None = None,
+                checked: bool = True) -> None:
+        self.solution, self.error = solution, error
+        self.done.set()
+        if checked:
+            self.checked.set()
+
+
+class _Worker:
+    """The service's end of one worker process."""
+
+    def __init__(self, index: int, process: mp.Process, conn: Connection) -> None:
+        self.index, self.process, self.conn = index, process, conn
+        self.ready = threading.Event()
+        self.job: Job | None = None  # the solve it runs
+        self.checking: dict[int, Job] = {}  # solves whose check it still owes
+        self.rss = 0
+        self.alive = True  # False once it is being killed or has died
+        self.death: str | None = None  # why the service killed it
+        self.replaced = False
+        self.send_lock = threading.Lock()
+
+    def send(self, msg: tuple) -> None:
+        with self.send_lock, contextlib.suppress(OSError, ValueError):
+            self.conn.send(msg)  # if it died, its reader thread handles that
+
+
+class SolveService:
+    """`workers` processes (default: one per core); `prebuild` pairs (mission, method) whose
+    default NLPs every worker builds in the background (True: all, the first mission first);
+    `mission_files` are loaded by every worker; `test_hooks` lets tests make a worker hang or
+    crash on purpose."""
+
+    def __init__(self, workers: int | None = None, *, prebuild: bool | Sequence[tuple[str, str]]
+                 = True, mission_files: Sequence[str] = (), grace: float = GRACE,
+                 rss_budget: int = RSS_BUDGET, test_hooks: bool = False,
+                 first_mission: str | None = None) -> None:
+        self.n_workers = max(1, workers or os.cpu_count() or 1)
+        self.grace = grace
+        self.rss_budget = rss_budget
+        self.test_hooks = test_hooks
+        self.mission_files = list(mission_files)
+        self.prebuild = self._prebuild_list(prebuild, first_mission)
+        self.restarts = 0
+        self._early_deaths = 0  # consecutive workers that died before they were ready
+        self._broken: str | None = None
+        self.mission_errors: dict[str, str] = {}
+        self._ctx = mp.get_context("spawn")
+        self._ids = itertools.count(1)
+        self._lock = threading.RLock()
+        self._queue: collections.deque[Job] = collections.deque()
+        self._affinity: dict[str, int] = {}
+        self._closed = False
+        self._workers: list[_Worker] = [self._spawn(i) for i in range(self.n_workers)]
+        self._monitor = threading.Thread(target=self._watch, daemon=True, name="service-watch")
+        self._monitor.start()
+
+    @staticmethod
+    def _prebuild_list(prebuild: bool | Sequence[tuple[str, str]], first: str | None
+                       ) -> list[tuple[str, str]]:
+        if prebuild is True:
+            missions = sorted(list_missions(), key=lambda m: m.key != first)
+            return [(m.key, meth.key) for m in missions for meth in m.methods]
+        return list(prebuild or [])
+
+    # ---- workers ----------------------------------------------------------------------------
+    def _spawn(self, index: int) -> _Worker:
+        parent, child = self._ctx.Pipe(duplex=True)
+        process = self._ctx.Process(
+            target=worker_main, name=f"solve-worker-{index}", daemon=True,
+            args=(child, self.mission_files, self.prebuild, self.rss_budget, self.test_hooks))
+        process.start()
+        child.close()
+        worker = _Worker(index, process, parent)
+        threading.Thread(target=self._read, args=(worker,), daemon=True,
+                         name=f"service-read-{index}").start()
+        return worker
+
+    def _read(self, w: _Worker) -> None:
+        """Messages of one worker, until its pipe closes (the worker died or retired)."""
+        while True:
+            try:
+                msg = w.conn.recv()
+            except (EOFError, OSError):
+                break
+            self._handle(w, msg)
+        self._died(w)
+
+    def _handle(self, w: _Worker, msg: tuple) -> None:
+        kind = msg[0]
+        if kind == "ready":
+            w.ready.set()
+            with self._lock:
+                self._dispatch()
+        elif kind == "progress":
+            job = w.job
+            if job is not None and job.id == msg[1] and job.progress is not None:
+                job.progress(msg[2], msg[3])
+        elif kind in ("result", "error"):
+            with self._lock:
+                job = w.job
+                if job is None or job.id != msg[1]:
+                    return
+                w.job = None
+                if kind == "error":
+                    job._finish(error=msg[2])
+                else:
+                    will_check = job.spec.verify and msg[2].ok and msg[2].has_trajectory
+                    if will_check:
+                        w.checking[job.id] = job
+                    job._finish(msg[2], checked=not will_check)
+                self._dispatch()
+        elif kind == "check":
+            with self._lock:
+                job = w.checking.pop(msg[1], None)
+            if job is not None and job.solution is not None:
+                update: CheckUpdate = msg[2]
+                update.apply(job.solution)
+                job.checked.set()
+        elif kind == "rss":
+            w.rss = msg[1]
+        elif kind == "mission-errors":
+            self.mission_errors.update(msg[1])
+
+    def _died(self, w: _Worker) -> None:
+        """The pipe of `w` closed: replace the worker; its running solve fails, its owed
+        checks are dropped."""
+        with self._lock:
+            if w.replaced:
+                return
+            w.replaced, w.alive = True, False
+            job, w.job = w.job, None
+            owed, w.checking = list(w.checking.values()), {}
+        if w.process.is_alive():
+            w.process.kill()
+        w.process.join(timeout=5.0)
+        with self._lock:
+            if job is not None:
+                reason = w.death or f"exit code {w.process.exitcode}"
+                self._fail(job, "failed", CRASHED.format(why=reason))
+            for owed_job in owed:
+                owed_job.checked.set()
+            if self._closed:
+                return
+            self._early_deaths = 0 if w.ready.is_set() else self._early_deaths + 1
+            if self._early_deaths > MAX_EARLY_DEATHS:
+                self._broken = (f"the solver processes die as they start (exit code "
+                                f"{w.process.exitcode}); see the terminal for the error")
+                for queued in self._queue:
+                    queued._finish(error=self._broken)
+                self._queue.clear()
+                return
+            self.restarts += 1
+            self._workers[w.index] = self._spawn(w.index)
+            self._dispatch()
+
+    def _kill(self, w: _Worker, why: str) -> None:
+        """Stop a worker now; its reader thread sees the pipe close and replaces it."""
+        w.alive, w.death = False, why
+        if w.process.is_alive():
+            w.process.kill()
+
+    def _watch(self) -> None:
+        """Kill a solve still running past its time limit plus the grace."""
+        while not self._closed:
+            time.sleep(0.05)
+            now = time.monotonic()
+            with self._lock:
+                late = [w for w in self._workers if w.alive and w.job is not None
+                        and w.job.deadline is not None and now > w.job.deadline]
+                for w in late:
+                    job, w.job = w.job, None
+                    limit = job.spec.time_limit
+                    self._fail(job, "time-limit",
+                               f"stopped at the time limit of {limit:g} s (the solver did not "
+                               "return, so its process was stopped): raise the time limit, "
+                               "or use fewer nodes or another method")
+                    self._kill(w, "stopped at its time limit")
+
+    def _fail(self, job: Job, status: str, message: str) -> None:
+        """Answer a job the worker could not answer: an empty solution with `status`."""
+        spec = job.spec
+        try:
+            mission = get_mission(spec.mission)
+            vals, m, n = mission.validate(spec.values, spec.method, spec.nodes)
+        except ValueError as exc:
+            job._finish(error=str(exc))
+            return
+        sol = mission.empty(vals, m, n, spec.backend or m.default_backend, status, message)
+        if job.started is not None:
+            sol.stats["wall_s"] = time.monotonic() - job.started
+        job._finish(sol)
+
+    # ---- jobs -------------------------------------------------------------------------------
+    def submit(self, spec: SolveSpec, session: str = "", progress: Progress | None = None
+               ) -> Job:
+        """Queue a solve; its warm start is stripped of what the solve never reads."""
+        if self._closed:
+            raise RuntimeError("the solve service is closed")
+        if self._broken:
+            raise RuntimeError(self._broken)
+        if spec.warm is not None:
+            spec = SolveSpec(**{**spec.__dict__, "warm": light_warm(spec.warm)})
+        job = Job(self, next(self._ids), spec, session, progress)
+        with self._lock:
+            self._queue.append(job)
+            self._dispatch()
+        return job
+
+    def cancel(self, job: Job) -> None:
+        """Stop a job: dropped from the queue, or its worker told to stop it (and to drop
+        its check)."""
+        with self._lock:
+            if job in self._queue:
+                self._queue.remove(job)
+                self._fail(job, "cancelled", "cancelled by a newer request")
+                return
+            for w in self._workers:
+                if (w.job is job or job.id in w.checking) and w.alive:
+                    w.send(("cancel", job.id))
+                    if w.checking.pop(job.id, None) is not None:
+                        job.checked.set()
+
+    def _idle(self) -> list[_Worker]:
+        return [w for w in self._workers if w.alive and w.ready.is_set() and w.job is None]
+
+    def _dispatch(self) -> None:
+        """Hand queued jobs to idle workers, each to its session's worker if that one is
+        idle, else to any idle worker (which becomes the session's)."""
+        while self._queue:
+            idle = self._idle()
+            if not idle:
+                return
+            job = self._queue.popleft()
+            preferred = self._affinity.get(job.session)
+            worker = next((w for w in idle if w.index == preferred), idle[0])
+            if job.session:
+                self._affinity[job.session] = worker.index
+            worker.job, job.worker, job.started = job, worker.index, time.monotonic()
+            worker.send(("solve", job.id, job.spec))
+
+    # ---- state ------------------------------------------------------------------------------
+    def wait_ready(self, timeout: float = 60.0) -> bool:
+        """Block until every worker has started (tests, benchmarks)."""
+        deadline = time.monotonic() + timeout
+        return all(w.ready.wait(max(deadline - time.monotonic(), 0.0)) for w in self._workers)
+
+    def pids(self) -> list[int]:
+        return [w.process.pid for w in self._workers if w.alive and w.process.pid]
+
+    def resident(self) -> dict[str, float]:
+        """Resident memory (MB) of this process and of each worker (as last reported)."""
+        out = {"server": resident_bytes() / 2**20}
+        for w in self._workers:
+            out[f"worker {w.index}"] = w.rss / 2**20
+        return out
+
+    def forget(self, session: str) -> None:
+        """A session closed: drop its worker affinity."""
+        with self._lock:
+            self._affinity.pop(session, None)
+
+    def restart_workers(self, mission_files: Sequence[str] | None = None) -> None:
+        """Replace every worker (e.g. a mission file changed); running solves fail."""
+        if mission_files is not None:
+            self.mission_files = list(mission_files)
+        with self._lock:
+            for w in list(self._workers):
+                self._kill(w, "the workers were restarted")
+
+    def close(self) -> None:
+        """Stop every worker (a running solve is killed with it)."""
+        with self._lock:
+            self._closed = True
+            workers = list(self._workers)
+            for job in self._queue:
+                job._finish(error="the solve service closed")
+            self._queue.clear()
+        for w in workers:
+            w.send(("stop",))
+        deadline = time.monotonic() + 2.0
+        for w in workers:
+            w.process.join(timeout=max(deadline - time.monotonic(), 0.0))
+            if w.process.is_alive():
+                w.process.kill()
+                w.process.join(timeout=2.0)
+
+    def __enter__(self) -> SolveService:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()

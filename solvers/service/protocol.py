@@ -1,0 +1,62 @@
+"""What crosses the process boundary between the solve service and its workers.
+
+Messages are tuples whose first item names them (all picklable):
+
+server -> worker: ("solve", job_id, SolveSpec) · ("cancel", job_id) · ("stop",)
+worker -> server: ("ready", pid) · ("progress", job_id, iteration, text) ·
+                  ("result", job_id, Solution) · ("error", job_id, text) (bad input) ·
+                  ("check", job_id, CheckUpdate) · ("rss", bytes) · ("retire", reason)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from ..solution import Quantity, Series, Solution
+
+
+@dataclass(frozen=True)
+class SolveSpec:
+    """One solve request, by mission key (every worker has the same registry)."""
+
+    mission: str
+    method: str | None = None
+    nodes: int | None = None
+    backend: str | None = None
+    values: dict[str, float] = field(default_factory=dict)
+    warm: Solution | None = None
+    time_limit: float | None = None
+    verify: bool = True  # run the re-propagation check after sending the result
+    test_hook: str | None = None  # "hang" / "crash" / "stop": only with test hooks enabled
+
+
+@dataclass
+class CheckUpdate:
+    """What the deferred re-propagation check adds to a solution already delivered."""
+
+    check: dict[str, float]
+    quantities: dict[str, Quantity]
+    references: dict[str, Series]
+    message: str
+
+    @staticmethod
+    def of(sol: Solution) -> CheckUpdate:
+        return CheckUpdate(dict(sol.check), dict(sol.quantities), dict(sol.references),
+                           sol.message)
+
+    def apply(self, sol: Solution) -> None:
+        sol.check.update(self.check)
+        sol.quantities.update(self.quantities)
+        sol.references.update(self.references)
+        sol.message = self.message
+
+
+def light_warm(sol: Solution | None) -> Solution | None:
+    """A warm-start solution without what the next solve never reads (iterate history,
+    references, estimates), so less crosses the pipe."""
+    if sol is None:
+        return None
+    copy = Solution(**{k: v for k, v in sol.__dict__.items() if k != "checker"})
+    copy.history, copy.references = [], {}
+    copy.costates = copy.hamiltonian = copy.switching = copy.interval_error = None
+    return copy

@@ -1,0 +1,191 @@
+"""A solve worker: one process that solves requests one at a time with its own cache of built
+NLPs (no lock shared with anyone), reports progress, runs the re-propagation checks when it has
+nothing better to do, and builds the default NLPs in the background.
+
+Priorities: a solve first; then the deferred checks (pre-empted as soon as a solve arrives and
+run again later; dropped when their session has moved on); then the start-up builds (a default
+solve per mission and method, cancelled when a real solve arrives and taken up again later).
+A reader thread takes messages off the pipe while the main thread solves, so a cancel reaches
+a running solve. Past its memory budget the worker empties its NLP cache, and if that is not
+enough it retires (the service starts a fresh one).
+"""
+
+from __future__ import annotations
+
+import collections
+import os
+import queue
+import signal
+import threading
+import time
+from multiprocessing.connection import Connection
+from typing import Any
+
+from ..nlp.cache import clear_built
+from ..registry import get_mission, load_mission_files
+from ..solution import Solution
+from ..verify import CheckInterrupted, interruptible
+from .protocol import CheckUpdate, SolveSpec
+
+PROGRESS_INTERVAL = 0.05  # s between progress messages of one solve
+
+
+def resident_bytes() -> int:
+    """This process's resident set size (Linux /proc; 0 elsewhere)."""
+    try:
+        with open("/proc/self/statm") as f:
+            return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+    except (OSError, ValueError, IndexError):
+        return 0
+
+
+class Worker:
+    """The state of one worker process (see the module docstring)."""
+
+    def __init__(self, conn: Connection, prebuild: list[tuple[str, str]], rss_budget: int,
+                 test_hooks: bool) -> None:
+        self.conn = conn
+        self.inbox: queue.Queue[tuple] = queue.Queue()
+        self.checks: collections.deque[tuple[int, Solution]] = collections.deque()
+        self.prebuild = collections.deque(prebuild)
+        self.rss_budget = rss_budget
+        self.test_hooks = test_hooks
+        self.solve_waiting = threading.Event()  # pre-empts checks and start-up builds
+        self.current: tuple[int, threading.Event] | None = None
+        self.dropped: set[int] = set()
+        self.lock = threading.Lock()
+
+    # ---- the reader thread ---------------------------------------------------------------
+    def read(self) -> None:
+        while True:
+            try:
+                msg = self.conn.recv()
+            except (EOFError, OSError):
+                os._exit(0)  # the service is gone
+            kind = msg[0]
+            if kind == "solve":
+                self.solve_waiting.set()
+                self.inbox.put(msg)
+            elif kind == "cancel":
+                with self.lock:
+                    self.dropped.add(msg[1])
+                    if self.current is not None and self.current[0] == msg[1]:
+                        self.current[1].set()
+            elif kind == "stop":
+                self.inbox.put(msg)
+
+    # ---- the main thread -----------------------------------------------------------------
+    def run(self) -> None:
+        self.conn.send(("ready", os.getpid()))
+        while True:
+            try:
+                msg = self.inbox.get(block=not (self.checks or self.prebuild))
+            except queue.Empty:
+                msg = None
+            if msg is not None:
+                if msg[0] == "stop":
+                    return
+                self.solve(msg[1], msg[2])
+                if self.inbox.empty():
+                    self.solve_waiting.clear()
+                self.mind_memory()
+            elif self.checks:
+                self.check_one()
+            elif self.prebuild:
+                self.build_one()
+
+    def solve(self, job_id: int, spec: SolveSpec) -> None:
+        cancel = threading.Event()
+        with self.lock:
+            self.current = (job_id, cancel)
+            if job_id in self.dropped:
+                cancel.set()
+        last = [0.0]
+
+        def progress(iteration: int, text: str) -> None:
+            now = time.monotonic()
+            if now - last[0] >= PROGRESS_INTERVAL:
+                last[0] = now
+                self.conn.send(("progress", job_id, iteration, text))
+
+        if spec.test_hook and self.test_hooks:
+            self.misbehave(spec.test_hook)
+        try:
+            mission = get_mission(spec.mission)
+            sol = mission.solve(spec.values, spec.method, spec.nodes, backend=spec.backend,
+                                warm=spec.warm, progress=progress, cancel=cancel,
+                                time_limit=spec.time_limit, verify=False)
+        except ValueError as exc:
+            self.conn.send(("error", job_id, str(exc)))
+            return
+        finally:
+            with self.lock:
+                self.current = None
+        self.conn.send(("result", job_id, sol))
+        if spec.verify and sol.checker is not None:
+            self.checks.append((job_id, sol))
+
+    def check_one(self) -> None:
+        job_id, sol = self.checks.popleft()
+        with self.lock:
+            if job_id in self.dropped:
+                return
+        try:
+            with interruptible(self.solve_waiting.is_set):
+                sol.run_check()
+        except CheckInterrupted:
+            self.checks.appendleft((job_id, sol))
+            return
+        self.conn.send(("check", job_id, CheckUpdate.of(sol)))
+
+    def build_one(self) -> None:
+        """One start-up build: solve a mission's default case with a method, cold and then
+        warm (which builds IPOPT's warm-start solver too); a solve arriving cancels it."""
+        key, method = self.prebuild.popleft()
+        cancel = threading.Event()
+        watcher = threading.Thread(target=lambda: self.solve_waiting.wait() or cancel.set(),
+                                   daemon=True)
+        watcher.start()
+        try:
+            mission = get_mission(key)
+            first = mission.solve(method=method, cancel=cancel, verify=False)
+            if first.ok and not cancel.is_set():
+                mission.solve(method=method, warm=first, cancel=cancel, verify=False)
+        except Exception:  # noqa: BLE001 - a failed pre-build only costs time later
+            return
+        if cancel.is_set():
+            self.prebuild.appendleft((key, method))
+
+    def mind_memory(self) -> None:
+        rss = resident_bytes()
+        if rss > self.rss_budget:
+            clear_built()
+            rss = resident_bytes()
+            if rss > self.rss_budget:
+                self.conn.send(("retire", f"memory {rss / 2**20:.0f} MB over the budget"))
+                os._exit(0)
+        self.conn.send(("rss", rss))
+
+    def misbehave(self, hook: str) -> None:
+        """Test-only faults: hang in native code (SIGSTOP: nothing of the process runs, not
+        even its reader thread), die as from a segfault (SIGKILL), or sleep in C."""
+        if hook == "stop":
+            os.kill(os.getpid(), signal.SIGSTOP)
+        elif hook == "crash":
+            os.kill(os.getpid(), signal.SIGKILL)
+        elif hook == "hang":
+            import ctypes
+
+            ctypes.CDLL(None).sleep(3600)
+
+
+def worker_main(conn: Connection, mission_files: list[str], prebuild: list[tuple[str, str]],
+                rss_budget: int, test_hooks: bool) -> None:
+    """Entry point of a worker process."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the service's to handle
+    errors: dict[str, Any] = load_mission_files(mission_files)
+    if errors:
+        conn.send(("mission-errors", errors))
+    worker = Worker(conn, prebuild, rss_budget, test_hooks)
+    threading.Thread(target=worker.read, daemon=True, name="worker-reader").start()
+    worker.run()

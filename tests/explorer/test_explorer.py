@@ -1,0 +1,293 @@
+"""Fast tests of the explorer's generic pieces: controls from params, scene geometry from a
+Solution, the status line, the plot figure and the session's newest-request-wins solver."""
+
+from __future__ import annotations
+
+import threading
+import time
+
+import numpy as np
+import pytest
+
+from explorer.camera import fit_camera
+from explorer.geometry import ARROW_FRACTION, BURN, COAST, build_geometry
+from explorer.panels import setup as ctl
+from explorer.panels.status import check_label, result_markdown
+from explorer.plots import figure_aspect, grid, make_figure
+from explorer.session import Session
+from solvers.mission import Mission, SolveContext
+from solvers.presentation import Body, Curve, Marker, PlotSeries, Presentation
+from solvers.problem import Method, Param
+from solvers.solution import Quantity, Solution
+
+
+# ---- a tiny mission whose solve is slow, cancellable and records what it was given ----
+class SlowMission(Mission):
+    key = "slow"
+    title = "Slow test mission"
+    summary = "sleeps, reports progress, returns x as the cost"
+    source = "test"
+    params = (
+        Param("x", "x", "m", 1.0, 0.0, 10.0, 0.5, display_unit="km", display_factor=1e-3),
+        Param("mode", "mode", "", 0, 0, 1, 1, options=("a", "b")),
+    )
+    methods = (Method("only", "only method", "test", "sleeps", nodes=(2, 3, 9)),)
+
+    def __init__(self, steps: int = 20, dt: float = 0.01) -> None:
+        self.steps, self.dt = steps, dt
+        self.started: list[float] = []
+        self.warm_seen: list[float | None] = []
+        self.lock = threading.Lock()
+
+    def _solve(self, values, method, nodes, backend, warm, ctx: SolveContext) -> Solution:
+        with self.lock:
+            self.started.append(values["x"])
+            self.warm_seen.append(None if warm is None else warm.values["x"])
+        for k in range(self.steps):
+            time.sleep(self.dt)
+            ctx.report(k)
+        status = "failed" if values["x"] == 7.0 else "optimal"
+        sol = Solution(mission=self.key, method=method.key, nodes=nodes, status=status,
+                       message="", cost=Quantity(values["x"], "x", "m"), values=values,
+                       t=np.array([0.0, 1.0]))
+        sol.checker = lambda: {"miss_m": 0.0}
+        return sol
+
+
+class Recorder:
+    """A SessionListener that keeps what it heard."""
+
+    def __init__(self) -> None:
+        self.results: list[Solution] = []
+        self.errors: list[str] = []
+        self.checks: list[Solution] = []
+        self.progress = 0
+        self.configs = 0
+
+    def on_config(self, session):
+        self.configs += 1
+
+    def on_progress(self, request, iteration, message):
+        self.progress += 1
+
+    def on_result(self, request, solution):
+        self.results.append(solution)
+
+    def on_check(self, request, solution):
+        self.checks.append(solution)
+
+    def on_error(self, request, message):
+        self.errors.append(message)
+
+
+def test_newest_request_wins_and_older_ones_are_cancelled():
+    mission = SlowMission(steps=50, dt=0.01)  # a full solve takes at least 0.5 s
+    session = Session(mission, auto=False)
+    rec = Recorder()
+    session.listeners.append(rec)
+    requests = []
+    t0 = time.perf_counter()
+    for x in (1.0, 2.0, 3.0, 4.0):
+        session.values["x"] = x
+        requests.append(session.submit())
+        time.sleep(0.05)  # let the worker start each one, so cancellation is exercised
+    assert session.wait_idle(10.0)
+    elapsed = time.perf_counter() - t0
+    assert [s.values["x"] for s in rec.results] == [4.0]  # only the newest is delivered
+    assert all(r.cancel.is_set() for r in requests[:-1])
+    assert not requests[-1].cancel.is_set()
+    # Older solves were started and then stopped early: far less than 4 full solves (2 s).
+    assert len(mission.started) >= 2 and mission.started[-1] == 4.0
+    assert elapsed < 1.6
+    assert session.last_good is rec.results[-1]
+    assert rec.checks and rec.checks[-1].check == {"miss_m": 0.0}
+    session.close()
+
+
+def test_warm_start_bad_input_and_failure_keep_the_last_good_solution():
+    mission = SlowMission(steps=2, dt=0.001)
+    session = Session(mission)  # auto: every change submits
+    rec = Recorder()
+    session.listeners.append(rec)
+    session.set_value("x", 2.0)
+    assert session.wait_idle(5.0)
+    good = session.last_good
+    assert good is not None and good.values["x"] == 2.0
+    session.set_value("x", 50.0)  # outside [0, 10]: mission.solve raises ValueError
+    assert session.wait_idle(5.0)
+    assert rec.errors and "'x'" in rec.errors[-1] and session.last_good is good
+    session.set_value("x", 7.0)  # the fake mission fails at 7
+    assert session.wait_idle(5.0)
+    assert rec.results[-1].status == "failed" and session.last_good is good
+    session.set_value("x", 3.0)
+    assert session.wait_idle(5.0)
+    assert mission.warm_seen[-1] == 2.0  # warm-started from the last good solution
+    assert session.last_good.values["x"] == 3.0
+    session.close()
+
+
+def test_display_conversion_round_trips_for_every_param():
+    from solvers import list_missions
+
+    params = [p for m in list_missions() for meth in m.methods for p in m.all_params(meth.key)]
+    params += list(SlowMission.params)
+    for p in params:
+        lo, hi, step = ctl.display_range(p)
+        assert lo <= ctl.to_display(p, p.default) <= hi and step > 0
+        for v in (p.min, p.default, p.max):
+            assert ctl.from_display(p, ctl.to_display(p, v)) == pytest.approx(v, rel=1e-12)
+            assert p.min <= ctl.from_display(p, ctl.to_display(p, v)) <= p.max
+
+
+def test_display_factor_and_labels():
+    x = SlowMission.params[0]
+    assert ctl.display_range(x) == (0.0, 0.01, 0.0005)
+    assert ctl.label_of(x) == "x [km]"
+    assert ctl.from_display(x, 0.0025) == 2.5
+    assert ctl.from_display(x, 0.0100000000001) == 10.0  # clamped, passes validation
+
+
+@pytest.fixture()
+def gui_server():
+    import viser
+
+    from explorer.capture import free_port
+
+    server = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)
+    yield server
+    server.stop()
+
+
+class _Rebuild(Recorder):
+    """Rebuilds the controls on a configuration change, as the app's view does."""
+
+    def __init__(self, controls: ctl.Controls) -> None:
+        super().__init__()
+        self.controls = controls
+
+    def on_config(self, session):
+        self.controls.rebuild()
+
+
+def _controls(server, session: Session, missions) -> ctl.Controls:
+    controls = ctl.Controls(server.gui, session, missions)
+    session.listeners.append(_Rebuild(controls))
+    controls.rebuild()
+    return controls
+
+
+def test_controls_built_from_the_lunar_mission(gui_server):
+    from solvers import get_mission, list_missions
+
+    mission = get_mission("lunar-landing")
+    session = Session(mission, method="hermite-simpson", auto=False)
+    controls = _controls(gui_server, session, list_missions())
+    keys = {p.key for p in mission.all_params("hermite-simpson")}
+    assert keys <= set(controls.inputs)
+    assert {"mission", "method", "backend", "nodes"} <= set(controls.inputs)
+    altitude = controls.inputs["altitude0"]
+    assert (altitude.value, altitude.min, altitude.max) == (15.0, 1.0, 100.0)  # km
+    altitude.value = 20.0  # as if moved in the browser
+    assert session.values["altitude0"] == 20e3  # the session gets SI
+    omega = controls.inputs["omega0"]
+    assert omega.value == pytest.approx(0.965)  # mrad/s
+    choice = controls.inputs["omega_source"]
+    choice.value = "vis-viva from apolune"
+    assert session.values["omega_source"] == 1.0
+    controls.inputs["method"].value = mission.method("paper").label
+    assert session.method == "paper" and "sigma0" in controls.inputs  # rebuilt
+    assert "backend" not in controls.inputs  # the paper method has no back ends
+    assert controls.inputs["nodes"].value == mission.method("paper").nodes[1]
+    controls.inputs["preset"].value = "Heavy lander, 3 kN"  # a preset of the mission
+    assert session.values["mass0"] == 1200.0 and session.values["thrust"] == 3000.0
+    assert controls.inputs["mass0"].value == 1200.0  # the rebuilt slider shows it
+    assert session.values["altitude0"] == 15e3  # the preset starts from the defaults
+    session.close()
+
+
+def test_mission_dropdown_switches_to_another_missions_controls(gui_server):
+    from solvers import get_mission
+
+    lunar, slow = get_mission("lunar-landing"), SlowMission()
+    session = Session(lunar, auto=False)
+    controls = _controls(gui_server, session, [lunar, slow])
+    controls.inputs["mission"].value = slow.title
+    assert session.mission is slow and session.values == {"x": 1.0, "mode": 0.0}
+    assert set(controls.inputs) == {"mission", "method", "nodes", "x", "mode"}
+    assert controls.inputs["x"].value == 0.001  # 1 m shown in km
+    assert controls.inputs["mode"].value == "a"
+    session.close()
+
+
+def _toy_solution() -> tuple[Solution, Presentation]:
+    t = np.linspace(0.0, 10.0, 11)
+    pos = np.column_stack([t * 1e3, np.zeros(11), np.full(11, 2e3)])
+    nodes = pos[::3]
+    thrust = np.array([[1.0, 0, 0], [0, 0.5, 0], [0, 0, 0], [0, 0, 1.0]])
+    sol = Solution(
+        mission="toy", method="m", nodes=3, status="optimal", message="",
+        cost=Quantity(1.0, "cost", ""), t=t, arcs=[(0.0, 4.0, "burn"), (4.0, 6.0, "coast"),
+                                                   (6.0, 10.0, "burn")],
+    )
+    pres = Presentation(
+        "toy", path=pos, nodes=nodes, thrust=thrust, display_unit="km", display_scale=1e-3,
+        bodies=[Body("rock", (5e3, 0, 0), 1e3, (90, 90, 90))],
+        curves=[Curve("ref", pos[:5], (0, 0, 255))], markers=[Marker("start", (0, 0, 2e3))])
+    return sol, pres
+
+
+def test_scene_geometry_counts_colours_and_units():
+    sol, pres = _toy_solution()
+    g = build_geometry(pres, sol.t, sol.arcs)
+    assert g.segments.shape == (10, 2, 3)
+    burn = np.all(g.segment_colors[:, 0] == BURN, axis=1)
+    coast = np.all(g.segment_colors[:, 0] == COAST, axis=1)
+    assert burn.sum() == 8 and coast.sum() == 2 and coast[4] and coast[5]
+    assert g.segments[-1, 1] == pytest.approx([10.0, 0.0, 2.0])  # km
+    assert g.nodes.shape == (4, 3)
+    assert g.arrows.shape == (3, 2, 3)  # the zero thrust vector draws no arrow
+    lengths = np.linalg.norm(g.arrows[:, 1] - g.arrows[:, 0], axis=1)
+    assert lengths == pytest.approx(ARROW_FRACTION * g.extent * np.array([1.0, 0.5, 1.0]))
+    assert g.curve_segments.shape == (4, 2, 3)
+    assert g.spheres[0].radius == 1.0 and len(g.markers) == 1
+    dim = build_geometry(pres, sol.t, sol.arcs, dim=True)
+    assert not np.any(np.all(dim.segment_colors[:, 0] == BURN, axis=1))
+
+
+def test_lunar_scene_and_camera_frame_the_descent():
+    from solvers import get_mission
+    from solvers.missions.lunar_landing.model import R_MOON
+
+    mission = get_mission("lunar-landing")
+    sol = mission.solve(method="hermite-simpson", nodes=20, verify=False)
+    g = build_geometry(mission.present(sol), sol.t, sol.arcs)
+    assert len(g.segments) == len(sol.t) - 1
+    assert len(g.nodes) == 21 and len(g.arrows) == 21
+    moon = g.spheres[0]
+    assert moon.radius == pytest.approx(R_MOON * 1e-3)  # drawn in km
+    # A face must sag less than the 15 km initial altitude (here under about 1.1 km).
+    assert moon.subdivisions >= 15
+    cam = fit_camera(g, aspect=1.0)
+    # The camera is outside the Moon, within a few trajectory extents of the path...
+    assert np.linalg.norm(cam.position) > moon.radius
+    assert np.linalg.norm(cam.position - g.center) < 3 * g.extent
+    # ...and looks at it with the Moon below ('up' is the local vertical).
+    assert cam.up @ (g.center / np.linalg.norm(g.center)) > 0.99
+    assert cam.far > np.linalg.norm(cam.position) + moon.radius
+
+
+def test_status_line_and_plots():
+    assert check_label("radial_speed_m_s") == ("radial speed", "m/s")
+    assert check_label("max_defect") == ("max defect", "")
+    sol, _ = _toy_solution()
+    sol.quantities = {"tf": Quantity(398.04, "final time", "s")}
+    sol.check = {"altitude_m": 0.0024}
+    md = result_markdown(sol)
+    assert "final time 398.04 s" in md and "altitude 0.0024 m" in md
+    sol.status, sol.message = "failed", "no convergence"
+    assert "no convergence" in result_markdown(sol, kept=True)
+    series = [PlotSeries(f"s{i}", "m", sol.t, sol.t, sol.t[::3], sol.t[::3]) for i in range(5)]
+    fig = make_figure(series)
+    assert len(fig.data) == 10  # a line and the node markers per series
+    assert [grid(n) for n in (1, 3, 5, 8, 10)] == [(1, 1), (1, 3), (2, 3), (2, 4), (3, 4)]
+    assert figure_aspect(5, 0.4) == 0.4 and figure_aspect(10, 0.4) == pytest.approx(0.6)

@@ -1,0 +1,315 @@
+"""Fast tests of the explorer's classroom features without a browser: animation poses and
+read-outs, colour-by-value, iterate ghosts, the About panel's MathML, the comparison table,
+time limits and comparisons in the session, exports, and a live view (server-side GUI and
+scene, no browser) whose scene and memory stay bounded over many re-solves.
+
+Reference: paper 002 (SPEC M3) publishes tf = 398.03868 s for the default lunar case.
+"""
+
+from __future__ import annotations
+
+import json
+import threading
+import time
+
+import numpy as np
+import pytest
+
+from explorer.geometry import BURN, build_geometry, colormap, ghost_geometry
+from explorer.legend import legend_html
+from explorer.panels.compare import comparison_rows
+from explorer.player import Track, quaternion_from_axes
+from explorer.plots import make_figure, set_time_marker
+from explorer.readouts import readouts
+from explorer.session import COLD_FACTOR, Session
+from solvers.presentation import Body, ColorBy, Marker, Presentation
+from solvers.solution import Quantity, Solution
+
+TF_PAPER = 398.03868  # s, paper 002 table 1
+
+
+def _rotate(wxyz: np.ndarray, v: np.ndarray) -> np.ndarray:
+    w, x, y, z = wxyz
+    r = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                  [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                  [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+    return r @ v
+
+
+def _burn_coast_burn() -> tuple[Solution, Presentation]:
+    """A straight path along x at 1 km/s: burn 0-4 s (+x thrust), coast, burn 6-10 s (-x)."""
+    t = np.linspace(0.0, 10.0, 101)
+    pos = np.column_stack([1e3 * t, np.zeros_like(t), np.zeros_like(t)])
+    node_t = np.array([0.0, 4.0, 6.0, 10.0])
+    thrust = np.array([[1.0, 0, 0], [1.0, 0, 0], [-0.5, 0, 0], [-0.5, 0, 0]])
+    x = np.column_stack([pos, np.full_like(t, 1e3), 0 * t, 0 * t, 500.0 - t])
+    sol = Solution(
+        mission="toy", method="m", nodes=3, status="optimal", message="",
+        cost=Quantity(1.0, "cost", ""), t=t, node_t=node_t,
+        arcs=[(0.0, 4.0, "burn"), (4.0, 6.0, "coast"), (6.0, 10.0, "burn")],
+        x=x, state_names=("x", "y", "z", "vx", "vy", "vz", "m"),
+        state_units=("m", "m", "m", "m/s", "m/s", "m/s", "kg"),
+    )
+    pres = Presentation("toy frame", path=pos, thrust=thrust, display_unit="km",
+                        display_scale=1e-3,
+                        bodies=[Body("target", (12e3, 0, 0), 10.0, (200, 200, 200))],
+                        markers=[Marker("start", (0, 0, 0))])
+    return sol, pres
+
+
+def test_vehicle_pose_follows_thrust_and_keeps_its_attitude_while_coasting():
+    track = Track(*_burn_coast_burn())
+    burn = track.pose(2.0)
+    assert burn.burning and burn.throttle == pytest.approx(1.0)
+    assert burn.position == pytest.approx([2.0, 0.0, 0.0])  # km: display units
+    assert _rotate(burn.wxyz, np.array([0, 0, 1.0])) == pytest.approx([1, 0, 0], abs=1e-9)
+    coast = track.pose(5.0)
+    assert not coast.burning and coast.throttle == 0.0 and np.all(coast.force == 0)
+    assert coast.axis == pytest.approx([1, 0, 0])  # the attitude of the end of burn 1
+    second = track.pose(8.0)
+    assert second.throttle == pytest.approx(0.5)
+    assert _rotate(second.wxyz, np.array([0, 0, 1.0])) == pytest.approx([-1, 0, 0], abs=1e-9)
+    # Body +y stays as close to the scene's up (+z) as the attitude allows.
+    assert _rotate(second.wxyz, np.array([0, 1.0, 0])) == pytest.approx([0, 0, 1], abs=1e-9)
+    # 1x plays the run in 12 s of wall clock and stops at the end; then it wraps.
+    assert track.step(0.0, 1.2, 1.0) == pytest.approx(1.0)
+    assert track.step(9.9, 1.2, 1.0) == 10.0 and track.step(10.0, 0.1, 1.0) == 0.0
+    assert track.step(3.0, 0.5, 0.0) == pytest.approx(3.5)  # real time
+
+
+def test_quaternion_handles_an_axis_along_up():
+    q = quaternion_from_axes(np.array([0, 0, 1.0]), np.array([0, 0, 1.0]))
+    assert np.linalg.norm(q) == pytest.approx(1.0)
+    assert _rotate(q, np.array([0, 0, 1.0])) == pytest.approx([0, 0, 1], abs=1e-9)
+
+
+def test_a_solution_without_burns_heads_into_the_flow():
+    sol, pres = _burn_coast_burn()
+    sol.arcs = [(0.0, 10.0, "coast")]
+    pose = Track(sol, pres).pose(3.0)
+    assert pose.axis == pytest.approx([-1, 0, 0])  # heat shield (body -z) forward
+    assert pose.throttle == 0.0 and pose.force == pytest.approx([1.0, 0, 0])  # force arrow
+
+
+def test_readouts_give_speed_mass_thrust_and_range():
+    sol, pres = _burn_coast_burn()
+    rows = dict(readouts(sol, pres, Track(sol, pres), 5.0))
+    assert rows["time"] == "5 s of 10 s"
+    assert rows["speed"].startswith("1000 m/s")
+    assert rows["mass"] == "495 kg"
+    assert rows["thrust"] == "coasting (engine off)"
+    assert rows["range to target"] == "7000 m"  # a small body: range to its centre
+
+
+def test_lunar_readouts_match_the_states():
+    from solvers import get_mission
+    from solvers.missions.lunar_landing.model import R_MOON
+
+    mission = get_mission("lunar-landing")
+    sol = mission.solve(method="hermite-simpson", nodes=20, verify=False)
+    pres = mission.present(sol)
+    track = Track(sol, pres)
+    t = 0.5 * track.tf
+    rows = dict(readouts(sol, pres, track, t))
+    r = np.interp(t, sol.t, sol.x[:, 0])
+    assert rows["altitude above Moon"] == f"{(r - R_MOON) / 1e3:.5g} km"
+    assert rows["thrust"] == "burning, throttle 100 %"
+    assert rows["mass"].endswith(" kg")
+
+
+def test_color_by_value_paints_the_path_and_the_legend_shows_the_bar():
+    sol, pres = _burn_coast_burn()
+    pres.color_by = ColorBy("heating rate", "W/cm²", np.linspace(0.0, 50.0, 101))
+    g = build_geometry(pres, sol.t, sol.arcs)
+    assert g.colorbar is not None and (g.colorbar.lo, g.colorbar.hi) == (0.0, 50.0)
+    first, last = g.segment_colors[0, 0], g.segment_colors[-1, 0]
+    assert np.all(first == colormap(np.array([0.25]), 0.0, 50.0)[0])
+    assert not np.all(first == last) and not np.any(np.all(g.segment_colors[:, 0] == BURN, 1))
+    html = legend_html(g)
+    assert "heating rate" in html and "W/cm²" in html and "linear-gradient" in html
+    sol, pres = _burn_coast_burn()
+    assert "burn arc" in legend_html(build_geometry(pres, sol.t, sol.arcs))
+
+
+def test_ghosts_brighten_towards_the_optimum():
+    _, pres = _burn_coast_burn()
+    pres.iterates = [(k, pres.path * (1 + 0.1 * k)) for k in range(4)]
+    segs, cols = ghost_geometry(pres)
+    assert segs.shape == (4 * 100, 2, 3)
+    brightness = cols[::100, 0].astype(int).sum(axis=1)
+    assert np.all(np.diff(brightness) > 0)  # each later iterate brighter
+    assert ghost_geometry(pres, upto=2)[0].shape == (200, 2, 3)
+
+
+def test_about_panel_renders_equations_as_mathml():
+    pytest.importorskip("latex2mathml")
+    from explorer.about import about_html
+    from solvers import get_mission
+
+    mission = get_mission("lunar-landing")
+    html = about_html(mission, "paper")
+    assert html.count("<math") == len(mission.equations) + len(mission.method("paper").equations)
+    assert "398.039" in html and "paper 002" in html  # published numbers with their source
+    assert "Integral transform" in html
+
+
+def test_comparison_rows_and_time_marker():
+    from solvers import get_mission
+
+    mission = get_mission("lunar-landing")
+    a = mission.solve(method="hermite-simpson", nodes=20)
+    b = mission.solve(method="multiple-shooting", nodes=20)
+    rows = comparison_rows(mission, [a, b])
+    table = {r[0]: r[1:] for r in rows}
+    assert rows[0] == ["", "hermite-simpson", "multiple-shooting"]
+    assert table["status"] == ["optimal", "optimal"]
+    for value in table["final time [s]"]:
+        assert float(value) == pytest.approx(TF_PAPER, rel=1e-4)
+    assert "miss: altitude [m]" in table and "solve time [ms]" in table
+    plots_a, plots_b = mission.present(a).plots, mission.present(b).plots
+    fig = make_figure(plots_a, overlays=[("b", (1, 2, 3), plots_b)])
+    set_time_marker(fig, len(plots_a), 100.0)
+    assert len(fig.layout.shapes) == len(plots_a)
+    assert [s.xref for s in fig.layout.shapes][:2] == ["x", "x2"]
+    assert set_time_marker(fig, len(plots_a), None).layout.shapes == ()
+
+
+def test_session_passes_its_time_limit_and_runs_comparisons():
+    from test_explorer import Recorder, SlowMission
+
+    mission = SlowMission(steps=200, dt=0.01)  # 2 s unless stopped
+    session = Session(mission, auto=False, time_limit=0.1)
+    rec = Recorder()
+    rec.compared = []
+    rec.on_compare = lambda request, sols: rec.compared.append(sols)
+    rec.on_submit = lambda request: None
+    session.listeners.append(rec)
+    request = session.submit()
+    assert request.time_limit == pytest.approx(COLD_FACTOR * 0.1)  # no warm start yet
+    assert session.wait_idle(5.0)
+    assert rec.results[-1].status == "time-limit" and session.last_good is None
+    session.set_time_limit(None)
+    mission.steps = 2
+    session.submit()
+    assert session.wait_idle(5.0) and session.last_good is not None
+    session.set_time_limit(0.5)
+    assert session.submit().time_limit == 0.5  # warm now: the plain limit
+    assert session.wait_idle(5.0)
+    session.compare(["only"])
+    assert session.wait_idle(5.0)
+    assert len(rec.compared) == 1 and rec.compared[0][0].check == {"miss_m": 0.0}
+    started = len(mission.started)
+    session.auto = True
+    session.set_value("x", session.values["x"])  # unchanged: no new solve
+    assert session.wait_idle(5.0) and len(mission.started) == started
+    session.close()
+
+
+def test_exports(tmp_path):
+    from explorer.export import scene_html, solution_csv, solution_json
+    from solvers import get_mission
+
+    mission = get_mission("lunar-landing")
+    sol = mission.solve(method="hermite-simpson", nodes=10)
+    data = json.loads(solution_json(sol))
+    assert data["quantities"]["tf"] == pytest.approx(TF_PAPER, rel=1e-3) and len(data["t"]) > 10
+    csv_lines = solution_csv(sol).decode().splitlines()
+    assert csv_lines[0].startswith("t [s],r [m]") and len(csv_lines) == len(sol.t) + 1
+    html = scene_html(sol, mission.present(sol))
+    assert "__VISER_EMBED_DATA__" in html
+    assert "plotly" not in html.lower()  # no plotly panel: no 4.8 MB of plotly.js
+    assert len(html) < 3e6
+
+
+def test_live_view_stays_bounded_over_many_resolves():
+    """A real view (server-side GUI and scene, no browser) re-solving 20 times: the scene
+    keeps the same nodes and the session keeps one solution, not a history of them."""
+    import viser
+
+    from explorer.capture import free_port
+    from explorer.view import View
+    from solvers import get_mission, list_missions
+
+    mission = get_mission("lunar-landing")
+    server = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)
+    try:
+        view = View(server.gui, server.scene, server.atomic, list_missions(), mission,
+                    "hermite-simpson", 20)
+        assert view.session.wait_idle(60.0) and view.session.latest.ok
+        view.play.ghosts.value = True
+        counts, names = [], []
+        for k in range(20):
+            view.session.set_value("thrust", 2000.0 + 50.0 * (k + 1))
+            assert view.session.wait_idle(60.0)
+            counts.append(view.scene.node_count)
+            names.append(len(server.scene._handle_from_node_name))
+        assert view.session.latest.ok and view.drawn >= 20
+        assert len(set(counts)) == 1 and len(set(names)) == 1, (counts, names)
+        # Play a little: the vehicle moves and the slider, read-outs and marker follow.
+        p0 = view.scene_vehicle_position()
+        view.toggle_play()
+        time.sleep(1.0)
+        view.toggle_play()
+        deadline = time.monotonic() + 5.0  # the player thread makes a last slow update
+        slider = view.play.time_slider
+        while slider.value != pytest.approx(view.t_anim, abs=slider.step):
+            assert time.monotonic() < deadline, "the time slider did not follow"
+            time.sleep(0.05)
+        assert np.linalg.norm(view.scene_vehicle_position() - p0) > 0
+        assert "altitude above Moon" in view.play.readout.content
+        assert threading.active_count() < 200
+        view.close()
+    finally:
+        server.stop()
+
+
+def test_bodies_with_a_track_move_with_the_animation_time():
+    """A body carrying a track (e.g. Earth and the asteroid in the asteroid mission) is put
+    where it is at the animation time; fixed bodies stay put."""
+    import viser
+
+    from explorer.capture import free_port
+    from explorer.scene import SceneView
+
+    sol, pres = _burn_coast_burn()
+    track = np.column_stack([np.zeros_like(sol.t), 2e3 * sol.t, np.zeros_like(sol.t)])
+    pres.bodies.append(Body("planet", (0.0, 0.0, 0.0), 50.0, (70, 130, 255), track))
+    g = build_geometry(pres, sol.t, sol.arcs)
+    server = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)
+    try:
+        view = SceneView(server.scene)
+        view.draw(g)
+        handles = {name: h for name, h in server.scene._handle_from_node_name.items()
+                   if name.startswith("/bodies/")}
+        fixed = np.array(handles["/bodies/target"].position)
+        view.move_bodies(5.0)
+        # 2 km/s x 5 s = 10 km, drawn in km.
+        assert np.allclose(handles["/bodies/planet"].position, (0.0, 10.0, 0.0))
+        assert np.allclose(handles["/bodies/target"].position, fixed)
+    finally:
+        server.stop()
+
+
+def test_grid_map_figure_marks_the_solution():
+    from explorer.plots import map_figure
+    from solvers.presentation import GridMap
+
+    z = np.add.outer(np.arange(5.0), np.arange(3.0)) * 10.0  # (len(x), len(y))
+    fig = map_figure(GridMap("C3", "launch", np.arange(5.0), "flight", np.arange(3.0), "C3",
+                             z, z_max=20.0, marker=(2.0, 1.0)))
+    contour, marker = fig.data
+    assert np.asarray(contour.z).shape == (3, 5)  # plotly wants rows = y
+    assert np.asarray(contour.z).max() == 20.0  # clipped at z_max
+    assert (marker.x[0], marker.y[0]) == (2.0, 1.0)
+
+
+def test_every_mission_and_method_equation_renders_as_mathml():
+    pytest.importorskip("latex2mathml")
+    from explorer.about import mathml
+    from solvers import list_missions
+
+    for mission in list_missions():
+        assert mission.equations, f"{mission.key} has no equations for its About panel"
+        for caption, latex in mission.equations + tuple(
+                eq for m in mission.methods for eq in m.equations):
+            assert mathml(latex).startswith("<math"), f"{mission.key}: {caption}"
