@@ -9,14 +9,19 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 
 from .mission import Mission
 from .registry import get_mission, list_missions
+from .service import SolveService, SolveSpec
+from .solution import Solution
 
 EXIT_BAD_INPUT = 2
 EXIT_NOT_OPTIMAL = 1
+EXIT_INTERRUPTED = 130
 
 
 class _Parser(argparse.ArgumentParser):
@@ -41,7 +46,9 @@ def build_parser() -> argparse.ArgumentParser:
     solve.add_argument("--backend", help="NLP back end, e.g. ipopt or sqp")
     solve.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                        help="parameter value in SI units (repeatable)")
-    solve.add_argument("--time-limit", type=float, help="stop the solve after this many s")
+    solve.add_argument("--time-limit", type=float,
+                       help="stop the solve after this many seconds (hard: the solver's "
+                            "process is stopped 1 s later if it does not return)")
     solve.add_argument("--json", action="store_true", help="print one JSON object")
     solve.add_argument("--csv", metavar="FILE", help="write the dense trajectory as CSV")
     sweep = sub.add_parser("sweep", help="solve a mission over a grid of parameter values")
@@ -95,6 +102,9 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     mission = get_mission(args.mission)
     axes = parse_axes(args.grid)
     fixed = parse_assignments(args.set)
+    check_request(mission, {**fixed, **{k: v[0] for k, v in axes.items()}}, args.method,
+                  args.nodes, None, None)
+    _writable(args.out, "--out")
     # Validate every grid point before any worker starts: bad input fails fast, exit 2.
     keys = list(axes)
     for key in keys:
@@ -140,11 +150,50 @@ def _cmd_params(mission: Mission) -> str:
     return "\n".join(lines)
 
 
+def _writable(path: str | None, option: str) -> None:
+    """Refuse an output file whose folder does not exist, before any work is done."""
+    if path and not Path(path).resolve().parent.is_dir():
+        raise _BadInput(f"{option} {path}: the folder {Path(path).parent} does not exist")
+
+
+def check_request(mission: Mission, values: dict[str, float], method: str | None,
+                  nodes: int | None, backend: str | None, time_limit: float | None) -> None:
+    """Everything the CLI refuses before solving: values of another method, a back end the
+    method does not have, a time limit that is not a positive number (exit 2)."""
+    m = mission.method(method)
+    known = {p.key for p in mission.all_params(m.key)}
+    foreign = sorted(set(values) - known)
+    if foreign:
+        raise _BadInput(f"{', '.join(foreign)}: not a parameter of {mission.key} with method "
+                        f"'{m.key}' (see `python -m solvers params {mission.key}`)")
+    if time_limit is not None and not (math.isfinite(time_limit) and time_limit > 0):
+        raise _BadInput(f"--time-limit must be a positive number of seconds, not {time_limit}")
+    mission.validate(values, method, nodes)
+    if backend is not None and backend not in m.backends:
+        known_b = ", ".join(m.backends) or "none: this method has no choice of back end"
+        raise _BadInput(f"method '{m.key}' has no back end '{backend}' (back ends: {known_b})")
+
+
+def solve_isolated(spec: SolveSpec) -> Solution:
+    """Solve in a worker process of its own: Ctrl-C stops it at once (even inside a native
+    solver) and a time limit is enforced by stopping the process."""
+    with SolveService(1, prebuild=False) as service:
+        job = service.submit(spec)
+        while not job.done.wait(0.1):
+            pass
+        sol = job.result()
+        while not job.checked.wait(0.1):
+            pass
+        return sol
+
+
 def _cmd_solve(args: argparse.Namespace) -> int:
     mission = get_mission(args.mission)
     values = parse_assignments(args.set)
-    sol = mission.solve(values, method=args.method, nodes=args.nodes, backend=args.backend,
-                        time_limit=args.time_limit)
+    check_request(mission, values, args.method, args.nodes, args.backend, args.time_limit)
+    _writable(args.csv, "--csv")
+    sol = solve_isolated(SolveSpec(mission.key, args.method, args.nodes, args.backend, values,
+                                   time_limit=args.time_limit))
     if args.csv:
         with open(args.csv, "w", encoding="utf-8") as fh:
             fh.write(sol.to_csv())
@@ -178,6 +227,12 @@ def main(argv: Sequence[str] | None = None) -> int:
             return _cmd_sweep(args)
         return _cmd_solve(args)
     except (_BadInput, ValueError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except (OSError, RuntimeError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
 

@@ -1,10 +1,10 @@
-"""Grids and Monte-Carlo runs on a `concurrent.futures` Executor.
+"""Grids and Monte-Carlo runs: mission solves on the solve service's worker processes, or on a
+`dask.distributed` cluster when given a scheduler address ("tcp://host:8786").
 
-Local processes by default; the same calls run on a `dask.distributed` cluster when given a
-scheduler address ("tcp://host:8786"), through `Client.get_executor()` — dask is imported
-only then and is not a dependency (`pip install "dask[distributed]"` to use it). Work
-functions must be importable module-level functions (they are pickled to the workers), and
-the workers must have this package installed.
+dask is imported only then and is not a dependency (`pip install "dask[distributed]"` to use
+it); its work functions must be importable module-level functions (they are pickled to the
+workers), and the workers must have this package installed. Vectorised grids (`grid_rows`)
+run on a local process pool or the same cluster.
 
 Two shapes of work:
 - `grid_rows`: a vectorised function of (row values, column values) -> a 2-D block, split
@@ -24,6 +24,8 @@ from typing import Any
 
 import numpy as np
 
+SCHEDULER_TIMEOUT = "5s"  # an unreachable scheduler is reported after this
+
 
 @contextmanager
 def executor(scheduler: str | None = None, workers: int | None = None) -> Iterator[Executor]:
@@ -35,7 +37,12 @@ def executor(scheduler: str | None = None, workers: int | None = None) -> Iterat
             raise RuntimeError(
                 'a scheduler address needs dask: pip install "dask[distributed]"'
             ) from exc
-        with Client(scheduler) as client:
+        try:
+            client = Client(scheduler, timeout=SCHEDULER_TIMEOUT)
+        except (OSError, TimeoutError) as exc:
+            raise RuntimeError(f"cannot reach the dask scheduler at {scheduler} within "
+                               f"{SCHEDULER_TIMEOUT} ({exc})") from None
+        with client:
             yield client.get_executor()
         return
     with ProcessPoolExecutor(max_workers=workers or os.cpu_count() or 1) as pool:
@@ -110,8 +117,22 @@ def monte_carlo(
     return _solve_all(mission_key, value_sets, method, nodes, scheduler, workers)
 
 
-def _solve_all(mission_key, value_sets, method, nodes, scheduler, workers):
+def _solve_all(mission_key: str, value_sets: list[dict[str, float]], method: str | None,
+               nodes: int | None, scheduler: str | None, workers: int | None
+               ) -> list[dict[str, Any]]:
     n = len(value_sets)
-    with executor(scheduler, workers) as ex:
-        return list(ex.map(solve_summary, [mission_key] * n, value_sets, [method] * n,
-                           [nodes] * n))
+    if scheduler:
+        with executor(scheduler, workers) as ex:
+            return list(ex.map(solve_summary, [mission_key] * n, value_sets, [method] * n,
+                               [nodes] * n))
+    from .service import SolveService, SolveSpec
+
+    with SolveService(workers, prebuild=False) as service:
+        jobs = [service.submit(SolveSpec(mission_key, method, nodes, values=dict(v)))
+                for v in value_sets]
+        rows = []
+        for job in jobs:
+            sol = job.result()
+            job.check()
+            rows.append(sol.to_dict())
+        return rows
