@@ -23,6 +23,9 @@ class DirectTranscription(ABC):
     """Nodes at tau_k in [0, 1] on t = t0 + T tau; states and controls at every node."""
 
     kind: str = "direct"
+    # Symbols of the NLP: SX (fast evaluation, expression graphs expanded) or MX (function
+    # calls kept: far less memory for methods with long inner integrations).
+    symbolic: type = ca.SX
     # How the control is defined between nodes: "linear" or "polynomial" (through all nodes).
     control_interpolation: str = "linear"
 
@@ -39,14 +42,15 @@ class DirectTranscription(ABC):
         self.tau = self.mesh(N)
         self.free_T = ocp.fixed_final_time is None
         self.free_t0 = ocp.free_initial_time
-        Xs = ca.SX.sym("X", nx, N + 1)
-        Us = ca.SX.sym("U", nu, N + 1)
-        p = ca.SX.sym("p", ocp.n_params)
-        Ts = ca.SX.sym("T") if self.free_T else ca.SX(0, 1)
-        t0s = ca.SX.sym("t0") if self.free_t0 else ca.SX(0, 1)
-        ss = ca.SX.sym("s", ocp.ns)
+        sym = self.symbolic
+        Xs = sym.sym("X", nx, N + 1)
+        Us = sym.sym("U", nu, N + 1)
+        p = sym.sym("p", ocp.n_params)
+        Ts = sym.sym("T") if self.free_T else sym(0, 1)
+        t0s = sym.sym("t0") if self.free_t0 else sym(0, 1)
+        ss = sym.sym("s", ocp.ns)
         T = Ts * ocp.T_scale if self.free_T else ocp.fixed_final_time(p)
-        t0 = t0s * ocp.t0_scale if self.free_t0 else ca.SX(0.0)
+        t0 = t0s * ocp.t0_scale if self.free_t0 else sym(0.0)
         s = ss * ca.DM(ocp.static_scale)
         X = ca.repmat(ca.DM(ocp.offset), 1, N + 1) + ca.repmat(ca.DM(ocp.x_scale), 1, N + 1) * Xs
         U = ca.repmat(ca.DM(ocp.u_scale), 1, N + 1) * Us

@@ -19,6 +19,7 @@ DEFAULT_SUBSTEPS = 8
 
 class MultipleShooting(DirectTranscription):
     kind = "multiple-shooting"
+    symbolic = ca.MX
 
     def __init__(
         self, ocp: OCP, n_intervals: int, backend: str = "ipopt", substeps: int = DEFAULT_SUBSTEPS
