@@ -40,11 +40,19 @@ def vehicle_mesh(vehicle: str) -> bytes | None:
     return asset_bytes(f"{table.get(vehicle, table['default'])}.glb")
 
 
+def _removed(handle: Any) -> bool:
+    """Whether a handle's node is gone (replaced by another object of the same name)."""
+    return bool(getattr(getattr(handle, "_impl", None), "removed", False))
+
+
 class SceneView:
     """One scene's drawn objects, kept by name and updated in place."""
 
-    def __init__(self, scene: viser.SceneApi, dark: bool = True) -> None:
+    def __init__(self, scene: viser.SceneApi, dark: bool = True, root: str = "") -> None:
+        """`root` prefixes every node name (several views sharing one scene, in tests and
+        benchmarks, keep their objects apart)."""
         self.scene = scene
+        self.root = root
         self._context_key: bytes | None = None
         self._context: list[viser.SceneNodeHandle] = []
         self._solution: dict[str, Any] = {}
@@ -61,7 +69,7 @@ class SceneView:
     def set_dark(self, dark: bool) -> None:
         self.dark = dark
         self.scene.set_background_image(np.full((1, 1, 3), BACKGROUNDS[dark], np.uint8))
-        nodes = self._solution.get("/nodes")
+        nodes = self._solution.get(f"{self.root}/nodes")
         if nodes is not None:
             nodes.colors = np.array(NODE if dark else NODE_LIGHT, np.uint8)
 
@@ -75,9 +83,10 @@ class SceneView:
         """Show `g`: the context if it changed, then path, nodes and arrows in place."""
         self._draw_context(g)
         size = 0.006 * g.extent  # world units: node points and arrows scale with the view
-        self._segments("/trajectory", self._solution, g.segments, g.segment_colors, 4.0)
-        self._points("/nodes", g.nodes, size)
-        self._arrows("/thrust", g.arrows, size)
+        self._segments(f"{self.root}/trajectory", self._solution, g.segments, g.segment_colors,
+                       4.0)
+        self._points(f"{self.root}/nodes", g.nodes, size)
+        self._arrows(f"{self.root}/thrust", g.arrows, size)
 
     def _segments(self, name: str, store: dict, segments: np.ndarray, colors: np.ndarray,
                   thickness: float) -> None:
@@ -88,7 +97,7 @@ class SceneView:
             return
         pts = np.asarray(segments, np.float32)
         cols = line_colors(colors)
-        if handle is None:
+        if handle is None or _removed(handle):
             store[name] = self.scene.add_line_segments(name, pts, cols, thickness=thickness,
                                                        thickness_units="screen")
             return
@@ -104,7 +113,7 @@ class SceneView:
                 handle.visible = False
             return
         pts = np.asarray(points, np.float32)
-        if handle is None:
+        if handle is None or _removed(handle):
             self._solution[name] = self.scene.add_point_cloud(
                 name, pts, color, point_size=size, point_shape="circle", precision="float32")
             return
@@ -119,7 +128,7 @@ class SceneView:
                 handle.visible = False
             return
         pts = np.asarray(arrows, np.float32)
-        if handle is None:
+        if handle is None or _removed(handle):
             self._solution[name] = self.scene.add_arrows(
                 name, pts, ARROW, shaft_radius=0.25 * size, head_radius=0.8 * size,
                 head_length=2.0 * size)
@@ -139,10 +148,10 @@ class SceneView:
                   thickness: float = 3.0) -> None:
         """Draw (or, given no segments, hide) a named batch of segments coloured by
         `colors`, (N, 2, 3) sRGB."""
-        self._segments(f"/layers/{name}", self._layers, segments, colors, thickness)
+        self._segments(f"{self.root}/layers/{name}", self._layers, segments, colors, thickness)
 
     def clear_layers(self, prefix: str = "") -> None:
-        for path in [p for p in self._layers if p.startswith(f"/layers/{prefix}")]:
+        for path in [p for p in self._layers if p.startswith(f"{self.root}/layers/{prefix}")]:
             self._layers.pop(path).remove()
 
     # ---- vehicle ------------------------------------------------------------------------
@@ -162,20 +171,20 @@ class SceneView:
 
     def _load_vehicle(self, vehicle: str) -> None:
         body = vehicle_mesh(vehicle)
-        frame = self.scene.add_frame("/vehicle", show_axes=False, visible=False)
+        frame = self.scene.add_frame(f"{self.root}/vehicle", show_axes=False, visible=False)
         self._vehicle = {"frame": frame}
         if body is not None:
-            self._vehicle["body"] = self.scene.add_glb("/vehicle/body", body, scale=1.0)
+            self._vehicle["body"] = self.scene.add_glb(f"{self.root}/vehicle/body", body, scale=1.0)
             plume = asset_bytes("plume.glb")
             if plume is not None:
                 self._vehicle["plume"] = self.scene.add_glb(
-                    "/vehicle/plume", plume, scale=(1.0, 1.0, 1.0), position=(0.0, 0.0, -0.5),
-                    visible=False)
+                    f"{self.root}/vehicle/plume", plume, scale=(1.0, 1.0, 1.0),
+                    position=(0.0, 0.0, -0.5), visible=False)
         else:  # no assets: a plain box still shows where the vehicle is
-            self._vehicle["body"] = self.scene.add_box("/vehicle/body", (255, 255, 255),
+            self._vehicle["body"] = self.scene.add_box(f"{self.root}/vehicle/body", (255, 255, 255),
                                                        dimensions=(1.0, 1.0, 1.0))
         self._vehicle["force"] = self.scene.add_arrows(
-            "/vehicle_force", np.zeros((1, 2, 3), np.float32), ARROW, shaft_radius=0.06,
+            f"{self.root}/vehicle_force", np.zeros((1, 2, 3), np.float32), ARROW, shaft_radius=0.06,
             head_radius=0.18, head_length=0.4, visible=False)
         self._vehicle_name = vehicle
         self._vehicle_size = 1.0
@@ -244,19 +253,21 @@ class SceneView:
         self._context, self._moving = [], []
         add = self._context.append
         for s in g.spheres:
-            add(self.scene.add_icosphere(f"/bodies/{s.name}", s.radius, s.color,
+            add(self.scene.add_icosphere(f"{self.root}/bodies/{s.name}", s.radius, s.color,
                                          subdivisions=s.subdivisions, position=s.center,
                                          cast_shadow=False, receive_shadow=False))
             if s.track is not None:
                 self._moving.append((self._context[-1], g.times, s.track))
         if len(g.curve_segments):
-            add(self.scene.add_line_segments("/curves", g.curve_segments.astype(np.float32),
+            add(self.scene.add_line_segments(f"{self.root}/curves",
+                                             g.curve_segments.astype(np.float32),
                                              line_colors(g.curve_colors),
                                              thickness=1.5, thickness_units="screen"))
         for i, (name, position, color) in enumerate(g.markers):
-            add(self.scene.add_point_cloud(f"/markers/{i}", position[None].astype(np.float32),
+            add(self.scene.add_point_cloud(f"{self.root}/markers/{i}",
+                                           position[None].astype(np.float32),
                                            color, point_size=0.015 * g.extent,
                                            point_shape="circle", precision="float32"))
-            add(self.scene.add_label(f"/labels/{i}", name, position=position,
+            add(self.scene.add_label(f"{self.root}/labels/{i}", name, position=position,
                                      font_screen_scale=0.8, anchor="bottom-left"))
         self._context_key = key

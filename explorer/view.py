@@ -57,7 +57,8 @@ class View:
                  atomic: Callable[[], AbstractContextManager[Any]], missions: Sequence[Mission],
                  mission: Mission, method: str | None = None, nodes: int | None = None,
                  time_limit: float | None = DEFAULT_TIME_LIMIT,
-                 runner: Runner | None = None) -> None:
+                 runner: Runner | None = None, scene_root: str = "") -> None:
+        """`scene_root` prefixes this view's scene nodes (views sharing one scene)."""
         self.gui = gui
         self.atomic = atomic  # groups one update into one browser frame
         self.session = Session(mission, method=method, nodes=nodes, auto=False,
@@ -91,7 +92,7 @@ class View:
         self.side = SidePanel(gui)
         self.cameras = Cameras(PLOT_PANEL[1] + PANEL_GAP)
         self._build_commands()
-        self.scene = SceneView(scene, dark=self.dark)
+        self.scene = SceneView(scene, dark=self.dark, root=scene_root)
         self.session.listeners.append(self)
         self.on_config(self.session)
         self.session.auto = True

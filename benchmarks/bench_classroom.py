@@ -1,0 +1,190 @@
+"""A classroom on one server: N sessions, each a real `View` on one viser server (server side
+only, no browser), spread over the five small missions, each moving its live parameter once
+every `--period` seconds for `--duration` seconds; optionally more sessions re-solving the
+asteroid mission back to back. Prints p50/p95/max slider-to-drawn latency per mission, how
+many requests missed their time limit, and the resident memory of the server and the solve
+workers.
+
+    python benchmarks/bench_classroom.py [--sessions 30] [--asteroid 2] [--duration 60]
+                                         [--period 3] [--workers N]
+
+The same script runs on the code before the solve service (no `explorer.view`: every solve
+in the server process), which is how the README's before/after table was made.
+"""
+
+from __future__ import annotations
+
+import argparse
+import random
+import statistics
+import sys
+import threading
+import time
+from collections import defaultdict
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).parent))
+from bench_missions import LIVE_PARAMETER  # noqa: E402
+
+SMALL = ("lunar-landing", "cw-rendezvous", "elliptic-transfer", "hovercraft", "apollo-reentry")
+
+
+def resident_mb(pid: int | str = "self") -> float:
+    try:
+        with open(f"/proc/{pid}/statm") as f:
+            return int(f.read().split()[1]) * 4096 / 2**20
+    except OSError:
+        return 0.0
+
+
+class Clock:
+    """Times each request from the slider move to its drawn answer (a SessionListener after
+    the view, so the view has drawn when it is called)."""
+
+    def __init__(self) -> None:
+        self.moved: dict[int, float] = {}
+        self.latencies: list[float] = []
+        self.statuses: list[str] = []
+        self.done = threading.Event()
+        self.move_started = 0.0
+
+    def on_submit(self, request) -> None:
+        self.moved[request.seq] = self.move_started
+
+    def on_result(self, request, solution) -> None:
+        started = self.moved.pop(request.seq, None)
+        if started is not None:
+            self.latencies.append(time.perf_counter() - started)
+            self.statuses.append(solution.status)
+        self.done.set()
+
+
+def make_view(server, missions, mission, runner, index: int):
+    """A view on the server's GUI and scene (each in its own branch of the scene)."""
+    try:
+        from explorer.view import View
+    except ImportError:  # the code before the solve service: one scene for all views
+        from explorer.app import View
+        return View(server.gui, server.scene, server.atomic, missions, mission)
+    return View(server.gui, server.scene, server.atomic, missions, mission, runner=runner,
+                scene_root=f"/session{index}")
+
+
+def drive(view, clock: Clock, key: str, moves: int, period: float, offset: float,
+          stop: threading.Event) -> None:
+    """Move `key` up by 1 % and back every `period` s, starting `offset` s in."""
+    session = view.session
+    base = session.values[key]
+    t0 = time.perf_counter() + offset
+    for k in range(moves):
+        wait = t0 + k * period - time.perf_counter()
+        if stop.wait(max(wait, 0.0)):
+            return
+        clock.done.clear()
+        clock.move_started = time.perf_counter()
+        session.set_value(key, base * (1.01 if k % 2 == 0 else 1.0))
+
+
+def hammer(view, clock: Clock, stop: threading.Event) -> None:
+    """Re-solve the asteroid back to back (thrust up by 1 % and back)."""
+    session = view.session
+    base, k = session.values["thrust"], 0
+    while not stop.is_set():
+        clock.done.clear()
+        clock.move_started = time.perf_counter()
+        session.set_value("thrust", base * (1.01 if k % 2 == 0 else 1.0))
+        k += 1
+        clock.done.wait(120.0)
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--sessions", type=int, default=30)
+    parser.add_argument("--asteroid", type=int, default=0, help="extra asteroid sessions")
+    parser.add_argument("--duration", type=float, default=60.0)
+    parser.add_argument("--period", type=float, default=3.0)
+    parser.add_argument("--workers", type=int, default=None)
+    parser.add_argument("--seed", type=int, default=1)
+    args = parser.parse_args(argv)
+
+    import viser
+
+    from explorer.capture import free_port
+    from solvers import get_mission, list_missions
+
+    runner, service = None, None
+    try:
+        from explorer.runners import ServiceRunner
+        from solvers.service import SolveService
+
+        service = SolveService(args.workers, first_mission=SMALL[0])
+        service.wait_ready()
+        runner = ServiceRunner(service)
+    except ImportError:
+        pass
+    missions = list_missions()
+    server = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)
+    views, clocks = [], defaultdict(list)
+    started = time.perf_counter()
+    for i in range(args.sessions):
+        mission = get_mission(SMALL[i % len(SMALL)])
+        views.append((mission.key, make_view(server, missions, mission, runner, i)))
+    for i in range(args.asteroid):
+        views.append(("asteroid-rendezvous", make_view(
+            server, missions, get_mission("asteroid-rendezvous"), runner, args.sessions + i)))
+    for _, view in views:  # every tab's first answer
+        view.session.wait_idle(600.0)
+    print(f"{len(views)} sessions answered their first request in "
+          f"{time.perf_counter() - started:.1f} s", flush=True)
+    rng = random.Random(args.seed)
+    stop = threading.Event()
+    moves = int(args.duration / args.period)
+    threads = []
+    for key, view in views:
+        clock = Clock()
+        view.session.listeners.append(clock)
+        clocks[key].append(clock)
+        if key == "asteroid-rendezvous":
+            target, fn_args = hammer, (view, clock, stop)
+        else:
+            target = drive
+            fn_args = (view, clock, LIVE_PARAMETER[key], moves, args.period,
+                       rng.uniform(0.0, args.period), stop)
+        threads.append(threading.Thread(target=target, args=fn_args, daemon=True))
+    for t in threads:
+        t.start()
+    time.sleep(args.duration + args.period)
+    stop.set()
+    for _, view in views:
+        view.session.wait_idle(60.0)
+    print(f"{'mission':22s} {'moves':>5s} {'p50 ms':>8s} {'p95 ms':>8s} {'max ms':>8s} "
+          f"{'time-limit':>10s} {'not optimal':>11s}")
+    for key in [*SMALL, "asteroid-rendezvous"]:
+        lat = sorted(x for c in clocks.get(key, []) for x in c.latencies)
+        stat = [s for c in clocks.get(key, []) for s in c.statuses]
+        if not lat:
+            continue
+        p95 = lat[min(len(lat) - 1, int(0.95 * len(lat)))]
+        print(f"{key:22s} {len(lat):5d} {1e3 * statistics.median(lat):8.0f} {1e3 * p95:8.0f} "
+              f"{1e3 * lat[-1]:8.0f} {stat.count('time-limit'):10d} "
+              f"{sum(s != 'optimal' for s in stat):11d}")
+    small = sorted(x for k in SMALL for c in clocks.get(k, []) for x in c.latencies)
+    p95 = small[min(len(small) - 1, int(0.95 * len(small)))]
+    print(f"{'small missions':22s} {len(small):5d} {1e3 * statistics.median(small):8.0f} "
+          f"{1e3 * p95:8.0f} {1e3 * small[-1]:8.0f}")
+    memory = f"server {resident_mb():.0f} MB"
+    if service is not None:
+        workers = [resident_mb(pid) for pid in service.pids()]
+        memory += (f", workers {' + '.join(f'{w:.0f}' for w in workers)} MB, total "
+                   f"{resident_mb() + sum(workers):.0f} MB, worker restarts {service.restarts}")
+    print(memory, flush=True)
+    for _, view in views:
+        view.close()
+    server.stop()
+    if service is not None:
+        service.close()
+
+
+if __name__ == "__main__":
+    main()
