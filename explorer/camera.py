@@ -112,12 +112,16 @@ FOLLOW_DISTANCE = 8.0  # follow camera distance in vehicle lengths
 
 class Cameras:
     """The cameras of the browsers watching one view: framed by `fit_camera` minding the
-    floating panel over the bottom of the canvas, refitted when a canvas changes shape."""
+    floating panel over the bottom of the canvas, refitted when a canvas changes shape. A
+    person who orbits the camera keeps their angle: later refits (a new scale) only move the
+    camera along that direction, until the camera is reset."""
 
     def __init__(self, covered_px: float) -> None:
         self.covered_px = covered_px  # canvas pixels hidden under the floating plot panel
         self.clients: dict[int, viser.ClientHandle] = {}
         self._fit_aspect: dict[int, float] = {}
+        self._placed: dict[int, tuple[np.ndarray, np.ndarray]] = {}  # what we set last
+        self.user_view: dict[int, np.ndarray] = {}  # direction a person chose, per browser
         self._refit: Callable[[viser.ClientHandle], None] | None = None
 
     def attach(self, client: viser.ClientHandle, refit: Callable[[viser.ClientHandle], None]
@@ -129,6 +133,12 @@ class Cameras:
     def detach(self, client: viser.ClientHandle) -> None:
         self.clients.pop(client.client_id, None)
         self._fit_aspect.pop(client.client_id, None)
+        self._placed.pop(client.client_id, None)
+        self.user_view.pop(client.client_id, None)
+
+    def forget_user_views(self) -> None:
+        """Back to the framed overview (reset camera, another mission)."""
+        self.user_view.clear()
 
     def chosen(self, clients: Iterable[viser.ClientHandle] | None) -> list[viser.ClientHandle]:
         return list(self.clients.values()) if clients is None else list(clients)
@@ -140,7 +150,8 @@ class Cameras:
         for client in self.chosen(clients):
             camera = client.camera
             covered = self.covered_px / max(camera.image_height, 1)
-            cam = fit_camera(g, camera.aspect, bottom=covered, view=view)
+            chosen = view if view is not None else self.user_view.get(client.client_id)
+            cam = fit_camera(g, camera.aspect, bottom=covered, view=chosen)
             self._fit_aspect[client.client_id] = camera.aspect
             with client.atomic():
                 camera.fov = FOV
@@ -152,23 +163,24 @@ class Cameras:
                 else:
                     camera.position = tuple(cam.position)
                     camera.look_at = tuple(cam.look_at)
+                    self._placed[client.client_id] = (cam.position, cam.look_at)
 
     def chase(self, g: Geometry, target: np.ndarray, vehicle_size: float) -> None:
         for client in self.chosen(None):
             self._chase(client, g, target, vehicle_size)
 
-    @staticmethod
-    def _chase(client: viser.ClientHandle, g: Geometry, target: np.ndarray,
+    def _chase(self, client: viser.ClientHandle, g: Geometry, target: np.ndarray,
                vehicle_size: float) -> None:
         """Chase camera: a few vehicle lengths behind the overview's line of sight."""
         camera = client.camera
-        cam = fit_camera(g, camera.aspect)
+        cam = fit_camera(g, camera.aspect, view=self.user_view.get(client.client_id))
         back = cam.position - cam.look_at
         back /= np.linalg.norm(back)
-        distance = FOLLOW_DISTANCE * vehicle_size
+        position = target + FOLLOW_DISTANCE * vehicle_size * back
         with client.atomic():
             camera.look_at = tuple(target)
-            camera.position = tuple(target + distance * back)
+            camera.position = tuple(position)
+        self._placed[client.client_id] = (position, np.asarray(target, float))
 
     def _camera_update(self, camera: viser.CameraHandle) -> None:
         """Refit when the canvas changes shape (panels docking, window resized): viser does
@@ -177,3 +189,38 @@ class Cameras:
         fitted = self._fit_aspect.get(client.client_id)
         if fitted is not None and abs(camera.aspect - fitted) > 0.01 and self._refit:
             self._refit(client)
+            return
+        placed = self._placed.get(client.client_id)
+        if placed is None:
+            return
+        position, look_at = np.asarray(camera.position), np.asarray(camera.look_at)
+        scale = max(float(np.linalg.norm(placed[0] - placed[1])), 1e-12)
+        moved = (np.linalg.norm(position - placed[0]) + np.linalg.norm(look_at - placed[1]))
+        if moved > 1e-3 * scale:  # not our own placement coming back: a person moved it
+            direction = position - look_at
+            if np.linalg.norm(direction) > 0:
+                self.user_view[client.client_id] = direction / np.linalg.norm(direction)
+
+
+def nice_length(x: float) -> float:
+    """The largest 1, 2 or 5 times a power of ten not above x."""
+    if x <= 0:
+        return 1.0
+    power = 10.0 ** math.floor(math.log10(x))
+    return max(m for m in (1.0, 2.0, 5.0) if m * power <= x * (1 + 1e-9)) * power
+
+
+def scale_bar(g: Geometry) -> tuple[np.ndarray, np.ndarray, str]:
+    """A bar of a round length (about a quarter of the path's extent) above the path, along
+    its main direction, and its label with the display unit."""
+    pts = g.points if len(g.points) else g.center[None]
+    up = _view_up(g)
+    along = _plane_axes(pts)[0]
+    along = along - along.dot(up) * up
+    if np.linalg.norm(along) < 1e-9:
+        along = np.cross(up, [0.0, 0.0, 1.0]) if abs(up[2]) < 0.9 else np.array([1.0, 0, 0])
+    along /= np.linalg.norm(along)
+    length = nice_length(0.25 * g.extent)
+    height = float(np.max((pts - g.center) @ up)) + 0.12 * g.extent
+    middle = g.center + height * up
+    return middle - 0.5 * length * along, middle + 0.5 * length * along, f"{length:g} {g.unit}"

@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 import viser
 
+from .camera import scale_bar
 from .geometry import ARROW, BACKGROUNDS, NODE, NODE_LIGHT, Geometry, line_colors
 from .player import Pose
 
@@ -87,6 +88,22 @@ class SceneView:
                        4.0)
         self._points(f"{self.root}/nodes", g.nodes, size)
         self._arrows(f"{self.root}/thrust", g.arrows, size)
+        self._scale_bar(g)
+
+    def _scale_bar(self, g: Geometry) -> None:
+        """A bar of round length with its unit above the path (the 3D view's scale)."""
+        start, end, text = scale_bar(g)
+        segment = np.array([[start, end]], np.float32)
+        color = np.array([[[200, 200, 200], [200, 200, 200]]], np.uint8)
+        self._segments(f"{self.root}/scale", self._solution, segment, color, 2.0)
+        label = self._solution.get(f"{self.root}/scale_label")
+        middle = tuple(0.5 * (start + end))
+        if label is None or _removed(label):
+            self._solution[f"{self.root}/scale_label"] = self.scene.add_label(
+                f"{self.root}/scale_label", text, position=middle, font_screen_scale=0.8,
+                anchor="bottom-center")
+        else:
+            label.text, label.position = text, middle
 
     def _segments(self, name: str, store: dict, segments: np.ndarray, colors: np.ndarray,
                   thickness: float) -> None:

@@ -45,6 +45,9 @@ class Request:
     compare: tuple[tuple[str, int], ...] = ()  # (method, nodes) pairs of a comparison
     cold: bool = False
     cancel: threading.Event = field(default_factory=threading.Event, compare=False)
+    # A newer request came in, but this one may finish and be drawn (a slider drag shows
+    # its intermediate optima); its check is skipped.
+    superseded: threading.Event = field(default_factory=threading.Event, compare=False)
     started: float = field(default_factory=time.monotonic, compare=False)
 
 
@@ -82,7 +85,9 @@ class Session:
 
     `auto=True` submits a solve after every change (the live explorer); with `auto=False`
     call `submit()` yourself. `last_good` is the newest optimal solution: the warm start of
-    the next solve and what the view keeps on screen when a request fails.
+    the next solve and what the view keeps on screen when a request fails. With `patience`
+    > 0 a newer request lets a running solve younger than that finish (it is drawn, so a
+    slider drag shows intermediate optima) and only waits for it; older ones are cancelled.
     """
 
     _ids = itertools.count(1)
@@ -90,8 +95,9 @@ class Session:
     def __init__(self, mission: Mission, *, method: str | None = None,
                  nodes: int | None = None, auto: bool = True,
                  time_limit: float | None = DEFAULT_TIME_LIMIT,
-                 runner: Runner | None = None) -> None:
+                 runner: Runner | None = None, patience: float = 0.0) -> None:
         self.id = f"session-{next(Session._ids)}"
+        self.patience = patience
         self.auto = auto
         self.time_limit = time_limit
         self.runner: Runner = runner or LocalRunner()
@@ -164,25 +170,34 @@ class Session:
         self.view = self.mission.view_defaults() | {k: float(v) for k, v in preset.view.items()}
         self._changed(config=True, cold=preset.cold)
 
-    def restore(self, method: str, nodes: int, values: Mapping[str, float],
-                view: Mapping[str, float], backend: str | None = None) -> None:
-        """Set a whole case at once (a shared link); bad entries raise `ValueError`."""
-        vals, m, n = self.mission.validate(values, method, nodes)
-        self._configure(self.mission, m.key, n, vals)
-        if backend is not None and backend in m.backends:
+    def restore(self, mission: Mission, method: str | None, nodes: int | None,
+                values: Mapping[str, float], view: Mapping[str, float],
+                backend: str | None = None) -> None:
+        """Set a whole case at once (a shared link); bad entries raise `ValueError` and
+        change nothing."""
+        vals, m, n = mission.validate(values, method, nodes)
+        checked_view = mission.validate_view(view)
+        if backend is not None and backend not in m.backends:
+            raise ValueError(f"method '{m.key}' has no back end '{backend}'")
+        if mission is not self.mission:
+            self.last_good = self.latest = None
+        self._configure(mission, m.key, n, vals)
+        if backend is not None:
             self.backend = backend
-        self.view = self.mission.validate_view(view)
+        self.view = checked_view
         self.preset = None
         self._changed(config=True)
 
     def set_value(self, key: str, value: float) -> None:
-        """Change one value (SI); an unchanged value is ignored (no re-solve)."""
+        """Change one value (SI); an unchanged value is ignored (no re-solve). A parameter of
+        the initial guess solves from the initial guess."""
         if key not in self.values:
             raise KeyError(f"'{key}' is not a parameter of {self.mission.key}/{self.method}")
         if self.values[key] == float(value):
             return
         self.values[key] = float(value)
-        self._changed(config=False)
+        guess = any(p.key == key and p.guess for p in self.mission.all_params(self.method))
+        self._changed(config=False, cold=guess)
 
     def set_view(self, key: str, value: float) -> None:
         """Change one view option: listeners redraw, nothing is solved."""
@@ -241,8 +256,16 @@ class Session:
                           dict(self.values), self.request_time_limit(bool(compare), cold),
                           compare, cold)
         with self._cond:
-            if self._running is not None:
-                self._running.cancel.set()
+            running = self._running
+            if running is not None:
+                age = time.monotonic() - running.started
+                if age < self.patience and not running.compare and not compare:
+                    running.superseded.set()
+                    timer = threading.Timer(self.patience - age, self._give_up, (running,))
+                    timer.daemon = True
+                    timer.start()
+                else:
+                    running.cancel.set()
             if self._pending is not None:
                 self._pending.cancel.set()
             self._pending = request
@@ -250,6 +273,12 @@ class Session:
             self._cond.notify_all()
         self._emit("on_submit", request)
         return request
+
+    def _give_up(self, request: Request) -> None:
+        """A superseded solve that is still running after `patience`: cancel it."""
+        with self._cond:
+            if self._running is request:
+                request.cancel.set()
 
     @property
     def busy(self) -> bool:
@@ -331,7 +360,8 @@ class Session:
         if sol.ok:
             self.last_good = sol
         self._emit("on_result", request, sol)
-        if not (sol.ok and sol.has_trajectory) or self._stale(request):
+        if not (sol.ok and sol.has_trajectory) or self._stale(request) \
+                or request.superseded.is_set():
             pending.discard()
             return
         pending.check()

@@ -21,10 +21,13 @@ from solvers.mission import Mission
 from solvers.presentation import Presentation
 from solvers.solution import Solution
 
+from . import style
 from .about import about_html
 from .camera import Cameras, top_view
 from .geometry import PALETTE, WARNING, Geometry, build_geometry, ghost_geometry, path_segments
+from .help import KeyHelp, Welcome
 from .legend import legend_html
+from .link import CaseLink, case_query, parse_case
 from .panels.compare import ComparePanel, comparison_html
 from .panels.export import ExportPanel
 from .panels.play import CAMERAS, PlayPanel
@@ -40,6 +43,7 @@ from .session import DEFAULT_TIME_LIMIT, Request, Session
 
 PROGRESS_INTERVAL = 0.1  # s between "solving… iteration k" updates
 DIM_AFTER = 0.25  # s: a solve slower than this dims the old trajectory while it runs
+DRAG_PATIENCE = 0.5  # s: a newer slider value lets a younger running solve finish and show
 REPLAY_STEP_S = 0.45  # s per iterate in the iteration replay
 
 
@@ -62,7 +66,7 @@ class View:
         self.gui = gui
         self.atomic = atomic  # groups one update into one browser frame
         self.session = Session(mission, method=method, nodes=nodes, auto=False,
-                               time_limit=time_limit, runner=runner)
+                               time_limit=time_limit, runner=runner, patience=DRAG_PATIENCE)
         self.dark = True
         self.drawn = 0  # solutions drawn so far (capture waits on this)
         self._lock = threading.RLock()  # scene and figure updates come from several threads
@@ -72,14 +76,19 @@ class View:
         self._failed = False
         self._geometry: Geometry | None = None
         self._shown: tuple[Solution, Presentation, bool] | None = None
-        self._framed: tuple[str, float] | None = None
+        self._framed: tuple[str, np.ndarray, np.ndarray, float] | None = None
         self._comparison: list[Solution] = []
         self._replay: threading.Thread | None = None
 
+        style.install(gui)
+        self.missions = {m.key: m for m in missions}
+        self.link = CaseLink(gui, self.restore_link)
+        self.welcome = Welcome(gui)
         self.status = StatusPanel(gui)
         tabs = gui.add_tab_group(order=5)
         tab_setup = tabs.add_tab("Setup", viser.Icon.ADJUSTMENTS)
-        self.controls = Controls(gui, self.session, missions, order=10, container=tab_setup)
+        self.controls = Controls(gui, self.session, missions, order=10, container=tab_setup,
+                                 report=self.refuse)
         with tabs.add_tab("Play", viser.Icon.PLAYER_PLAY):
             self.play = PlayPanel(gui, self.show_time, self.apply_camera, self.reset_camera,
                                   self._draw_ghosts, self.replay_iterations)
@@ -104,6 +113,19 @@ class View:
         play.on_trigger(lambda _: self.toggle_play())
         reset = self.gui.add_command("Reset camera", hotkey="R", icon=viser.Icon.FOCUS_CENTERED)
         reset.on_trigger(lambda _: self.reset_camera())
+        self.key_help = KeyHelp(self.gui)
+
+    def restore_link(self, query: str) -> None:
+        """The page was opened with a case in its address: set that case."""
+        try:
+            mission, method, nodes, backend, values, view = parse_case(query, self.missions)
+            self.session.restore(mission, method, nodes, values, view, backend)
+        except ValueError as exc:
+            self.refuse("this link's case cannot be restored", str(exc))
+
+    def refuse(self, title: str, message: str) -> None:
+        """A typed value was refused: say why in every watching browser."""
+        self.status.notify(self.cameras.clients.values(), title, message)
 
     # ---- what is on screen ------------------------------------------------------------------
     @property
@@ -180,12 +202,14 @@ class View:
 
     def on_view(self, session: Session) -> None:
         """A view option changed: redraw what is on screen from the same solution."""
+        self.link.show(case_query(session))
         if self._shown is not None:
             sol, _, dim = self._shown
             self._draw(sol, dim)
 
     def on_submit(self, request: Request) -> None:
         self._dimmed = False
+        self.link.show(case_query(self.session))
 
     def on_progress(self, request: Request, iteration: int, message: str) -> None:
         now = time.monotonic()
@@ -257,11 +281,26 @@ class View:
             self.side.show_map(pres.maps[0] if pres.maps else None, self.dark)
             self._draw_ghosts()
         self.status.legend.content = legend_html(geometry, dim=dim, failed=self._failed)
-        framed = (sol.mission, round(float(np.log2(max(geometry.extent, 1e-12))), 0))
-        if framed != self._framed:  # a new mission, or the path changed its scale
-            self._framed = framed
+        if self._reframe(sol.mission, geometry):
             self.apply_camera()
         self.drawn += 1
+
+    def _reframe(self, mission: str, g: Geometry) -> bool:
+        """Whether the camera must frame the path again: a new mission, a path that left the
+        framed box (by a quarter of its size) or shrank below 40 % of it. Records the new
+        frame when it must."""
+        lo, hi = g.points.min(axis=0), g.points.max(axis=0)
+        old = self._framed
+        if old is not None and old[0] == mission:
+            _, old_lo, old_hi, old_extent = old
+            margin = 0.25 * old_extent
+            inside = bool(np.all(lo >= old_lo - margin) and np.all(hi <= old_hi + margin))
+            if inside and g.extent >= 0.4 * old_extent:
+                return False
+        else:
+            self.cameras.forget_user_views()
+        self._framed = (mission, lo, hi, g.extent)
+        return True
 
     def _set_failed(self, sol: Solution | None) -> None:
         """Show a failed attempt's trajectory in the warning colour (or remove it)."""
@@ -394,6 +433,7 @@ class View:
 
     # ---- camera -------------------------------------------------------------------------
     def reset_camera(self) -> None:
+        self.cameras.forget_user_views()
         if self.play.camera_mode.value != CAMERAS[0]:
             self.play.camera_mode.value = CAMERAS[0]  # runs apply_camera through its callback
         else:

@@ -17,7 +17,9 @@ class Param:
 
     `display_unit`/`display_factor` only change how a GUI shows the value
     (e.g. metres shown as km with factor 1e-3); `options` turns the parameter into a
-    choice whose value is the index of the chosen option.
+    choice whose value is the index of the chosen option. `guess=True` marks a parameter of
+    the initial guess or of the solver's start: changing it solves from the initial guess
+    (a warm start from the last answer would ignore it).
     """
 
     key: str
@@ -33,6 +35,7 @@ class Param:
     display_factor: float = 1.0
     options: tuple[str, ...] = ()
     integer: bool = False
+    guess: bool = False
 
     def __post_init__(self) -> None:
         if not self.min <= self.default <= self.max:

@@ -1,15 +1,14 @@
-"""GUI controls generated from the mission contract alone (no per-mission GUI code).
-
-Sliders show a `Param` in its display unit (shown value = SI value x `display_factor`);
-the session always receives SI values. Choice params become dropdowns whose value is the
-option's index.
+"""The Setup panel: controls generated from the mission contract alone (no per-mission GUI
+code): mission, method, back end, nodes, presets, a "solve from the initial guess" action, one
+slider-and-box per parameter (`value_input.NumberField`, display units, SI to the session),
+dropdowns for choices, and the mission's view options in a Display folder (they redraw without
+solving).
 """
 
 from __future__ import annotations
 
 import contextlib
-import math
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from typing import Any
 
 import viser
@@ -18,42 +17,9 @@ from solvers.mission import Mission
 from solvers.problem import Param
 
 from ..session import Session
+from .value_input import NumberField, Report
 
 NO_PRESET = "(choose a preset)"
-
-
-def _clean(x: float) -> float:
-    """Drop binary noise from a unit conversion (0.9650000000000001 -> 0.965)."""
-    return float(f"{x:.12g}")
-
-
-def display_unit(p: Param) -> str:
-    return p.display_unit if p.display_unit is not None else p.unit
-
-
-def label_of(p: Param) -> str:
-    unit = display_unit(p)
-    return f"{p.label} [{unit}]" if unit and not p.options else p.label
-
-
-def to_display(p: Param, si: float) -> float:
-    return _clean(si * p.display_factor)
-
-
-def from_display(p: Param, shown: float) -> float:
-    """SI value of a shown value, clamped to [min, max] against round-off of the factor."""
-    si = min(max(shown / p.display_factor, p.min), p.max)
-    if p.integer or p.options:
-        return float(round(si))
-    lo_gap, hi_gap = abs(si - p.min), abs(si - p.max)
-    tol = 1e-9 * max(abs(p.min), abs(p.max), abs(p.step))
-    return float(p.min if lo_gap < tol else p.max if hi_gap < tol else _clean(si))
-
-
-def display_range(p: Param) -> tuple[float, float, float]:
-    """(min, max, step) of the slider in display units."""
-    lo, hi = sorted((to_display(p, p.min), to_display(p, p.max)))
-    return lo, hi, _clean(abs(p.step * p.display_factor))
 
 
 def group_params(params: Sequence[Param]) -> dict[str, list[Param]]:
@@ -69,8 +35,11 @@ class Controls:
     changes (`rebuild`). `inputs` maps param keys (and "nodes") to their GUI handles."""
 
     def __init__(self, gui: viser.GuiApi, session: Session, missions: Sequence[Mission],
-                 order: float = 10.0, container: Any = None) -> None:
+                 order: float = 10.0, container: Any = None,
+                 report: Report | None = None) -> None:
         self.gui = gui
+        self.report: Report = report or (lambda title, message: None)
+        self.fields: dict[str, NumberField] = {}
         self.container = container  # e.g. a tab; None: the panel's root
         self.session = session
         self.missions = {m.title: m for m in missions}
@@ -84,6 +53,7 @@ class Controls:
             handle.remove()
         self._containers.clear()
         self.inputs.clear()
+        self.fields.clear()
         s = self.session
         with self.container if self.container is not None else contextlib.nullcontext():
             with self._folder("Problem"):
@@ -122,10 +92,18 @@ class Controls:
             self.inputs["backend"] = backend
 
         lo, _, hi = current.nodes
-        nodes = self.gui.add_slider(current.nodes_label, lo, hi, 1, s.nodes,
-                                    hint=f"discretisation size of {current.label}")
-        nodes.on_update(lambda _: s.set_nodes(int(nodes.value)))
-        self.inputs["nodes"] = nodes
+        nodes_param = Param("nodes", current.nodes_label, "", s.nodes, lo, hi, 1, integer=True)
+        nodes = NumberField(self.gui, nodes_param, s.nodes, lambda _, n: s.set_nodes(int(n)),
+                            self.report, hint=f"discretisation size of {current.label}")
+        self.fields["nodes"] = nodes
+        self.inputs["nodes"] = nodes.handle
+
+        cold = self.gui.add_button(
+            "solve from the initial guess", icon=viser.Icon.REFRESH,
+            hint="Solve again from the method's initial guess instead of the last answer: "
+                 "shows a whole convergence (replay it in Play), and whether the answer "
+                 "depends on where the solver started.")
+        cold.on_click(lambda _: s.submit(cold=True))
 
         if s.mission.presets:
             names = {p.name: p for p in s.mission.presets}
@@ -149,17 +127,6 @@ class Controls:
                                            hint=hint)
             handle.on_update(lambda _: apply(p.key, p.options.index(handle.value)))
             return handle
-        lo, hi, step = display_range(p)
-        handle = self.gui.add_slider(label_of(p), lo, hi, step, to_display(p, value), hint=hint)
-        handle.on_update(_setter(apply, p, handle))
-        return handle
-
-
-def _setter(apply: Callable[[str, float], None], p: Param, handle: Any
-            ) -> Callable[[Any], None]:
-    def update(_: Any) -> None:
-        shown = float(handle.value)
-        if math.isfinite(shown):
-            apply(p.key, from_display(p, shown))
-
-    return update
+        field = NumberField(self.gui, p, value, apply, self.report, hint=hint)
+        self.fields[p.key] = field
+        return field.handle

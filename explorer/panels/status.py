@@ -8,14 +8,18 @@ import math
 from collections.abc import Iterable
 
 import viser
+from markdown_it import MarkdownIt
 
 from solvers.solution import Solution
 
 _UNIT_TOKENS = {"m", "s", "kg", "km", "rad", "deg", "N", "s2", "s3", "m2"}
 KEPT = "_showing the last good trajectory (dimmed)_"
 SHOWN = 3  # quantities and check items in the status; all of them are in the details
-# Below these a number is numerical noise: shown as "< limit unit".
-NOISE = {"m": 1e-6, "m/s": 1e-9, "rad": 1e-12, "rad/s": 1e-12, "kg": 1e-9, "s": 1e-9}
+# Below these a number is below what anyone would measure: shown as "< limit", not as noise
+# like "2.24131e-28 m/s".
+NOISE = {"m": (1e-3, "< 1 mm"), "m/s": (1e-3, "< 1 mm/s"), "kg": (1e-3, "< 1 g"),
+         "rad": (1e-6, "< 1 µrad"), "rad/s": (1e-6, "< 1 µrad/s"), "s": (1e-6, "< 1 µs"),
+         "deg": (1e-4, "< 0.0001°")}
 
 
 def check_label(key: str) -> tuple[str, str]:
@@ -29,13 +33,13 @@ def check_label(key: str) -> tuple[str, str]:
 
 
 def fmt(value: float, unit: str = "", digits: int = 6) -> str:
-    """A number for a person: "n/a" when undefined, "< 1e-06 m" when below noise, else
+    """A number for a person: "n/a" when undefined, "< 1 mm" when below what matters, else
     `digits` significant digits."""
     if value is None or not math.isfinite(value):
         return "n/a"
     floor = NOISE.get(unit)
-    if floor is not None and abs(value) < floor:
-        return f"< {floor:g} {unit}".rstrip()
+    if floor is not None and abs(value) < floor[0]:
+        return floor[1]
     return f"{value:.{digits}g} {unit}".rstrip()
 
 
@@ -118,11 +122,38 @@ def rejected_markdown(message: str, kept: bool) -> str:
     return f"**request rejected**  \n{message}" + (f"  \n{KEPT}" if kept else "")
 
 
+_MD = MarkdownIt("commonmark")
+
+
+def status_html(markdown: str) -> str:
+    """The status markdown as HTML in the element `#explorer-status` (tests and the browser
+    benchmark find it by that id)."""
+    return f'<div id="explorer-status">{_MD.render(markdown)}</div>'
+
+
+class _StatusLine:
+    """The status element; `content` takes markdown (kept, for tests) and shows HTML."""
+
+    def __init__(self, gui: viser.GuiApi, markdown: str) -> None:
+        self._markdown = markdown
+        self.handle = gui.add_html(status_html(markdown), order=0)
+
+    @property
+    def content(self) -> str:
+        return self._markdown
+
+    @content.setter
+    def content(self, markdown: str) -> None:
+        if markdown != self._markdown:
+            self._markdown = markdown
+            self.handle.content = status_html(markdown)
+
+
 class StatusPanel:
     """Status line, progress bar, legend and details of one view."""
 
     def __init__(self, gui: viser.GuiApi) -> None:
-        self.status = gui.add_markdown("**starting…** the first solve is on its way", order=0)
+        self.status = _StatusLine(gui, "**starting…** the first solve is on its way")
         self.progress = gui.add_progress_bar(0.0, animated=True, visible=False, order=1)
         self.legend = gui.add_html("", order=2)
         with gui.add_folder("Result details", order=3, expand_by_default=False):

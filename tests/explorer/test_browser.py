@@ -51,6 +51,7 @@ def _click_slider(page, label: str, fraction: float,
     """Click a viser slider's track at `fraction` of its width (as a person would); with
     `moved`, click again (up to 3 times) until the server has seen the new value."""
     slider_id = page.locator("label", has_text=label).first.get_attribute("for")
+    page.locator(f'[id="{slider_id}"]').scroll_into_view_if_needed()  # as a person scrolls
     for _ in range(3):
         box = page.locator(f'[id="{slider_id}"]').bounding_box()
         page.mouse.click(box["x"] + fraction * box["width"], box["y"] + 0.5 * box["height"])
@@ -292,3 +293,30 @@ def test_shared_mode_mirrors_one_session_to_every_tab(app):
         for p in pages:
             p.close()
         shared.stop()
+
+
+def test_three_tabs_on_different_missions_move_at_the_same_moment(app, tab):
+    """Three tabs, three missions, one slider step in each within a fraction of a second:
+    each page shows its own new optimum (the solves run side by side on the workers)."""
+    from explorer.panels.status import fmt
+    from solvers import get_mission
+
+    cases = (("lunar-landing", "thrust F [N]"), ("hovercraft", "thrust acceleration A/m"),
+             ("cw-rendezvous", "initial x'"))
+    opened = []
+    for key, label in cases:
+        page, view = tab()
+        if view.session.mission.key != key:
+            view.session.select_mission(get_mission(key))
+        _until(lambda v=view, k=key: v.session.wait_idle(120) and v.session.latest
+               and v.session.latest.mission == k and v.session.latest.ok, f"{key} solved")
+        opened.append((page, view, label, view.session.latest))
+    for page, _, label, _ in opened:  # the three moves, back to back
+        _slider_key(page, label, "ArrowRight", times=2)
+    for page, view, _, before in opened:
+        _until(lambda v=view, b=before: v.session.wait_idle(120) and v.session.latest is not b
+               and v.session.latest.ok, f"{view.session.mission.key}'s new optimum")
+        sol = view.session.latest
+        assert sol.values != before.values and sol.cost.value != before.cost.value
+        shown = fmt(sol.cost.value, sol.cost.unit)
+        page.get_by_text(shown).first.wait_for(timeout=30e3)

@@ -12,6 +12,7 @@ import pytest
 from explorer.camera import fit_camera
 from explorer.geometry import ARROW_FRACTION, BURN, COAST, build_geometry
 from explorer.panels import setup as ctl
+from explorer.panels import value_input as vi
 from explorer.panels.status import check_label, result_markdown
 from explorer.plots import figure_aspect, grid, make_figure
 from explorer.session import Session
@@ -132,19 +133,19 @@ def test_display_conversion_round_trips_for_every_param():
     params = [p for m in list_missions() for meth in m.methods for p in m.all_params(meth.key)]
     params += list(SlowMission.params)
     for p in params:
-        lo, hi, step = ctl.display_range(p)
-        assert lo <= ctl.to_display(p, p.default) <= hi and step > 0
+        lo, hi, step = vi.display_range(p)
+        assert lo <= vi.to_display(p, p.default) <= hi and step > 0
         for v in (p.min, p.default, p.max):
-            assert ctl.from_display(p, ctl.to_display(p, v)) == pytest.approx(v, rel=1e-12)
-            assert p.min <= ctl.from_display(p, ctl.to_display(p, v)) <= p.max
+            assert vi.from_display(p, vi.to_display(p, v)) == pytest.approx(v, rel=1e-12)
+            assert p.min <= vi.from_display(p, vi.to_display(p, v)) <= p.max
 
 
 def test_display_factor_and_labels():
     x = SlowMission.params[0]
-    assert ctl.display_range(x) == (0.0, 0.01, 0.0005)
-    assert ctl.label_of(x) == "x [km]"
-    assert ctl.from_display(x, 0.0025) == 2.5
-    assert ctl.from_display(x, 0.0100000000001) == 10.0  # clamped, passes validation
+    assert vi.display_range(x) == (0.0, 0.01, 0.0005)
+    assert vi.label_of(x) == "x [km]"
+    assert vi.from_display(x, 0.0025) == 2.5
+    assert vi.from_display(x, 0.0100000000001) == 10.0  # clamped, passes validation
 
 
 @pytest.fixture()

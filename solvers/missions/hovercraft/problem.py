@@ -37,10 +37,11 @@ PARAMS = (
     Param("vxf", "final vx", "m/s", 0.0, X_LB[2], X_UB[2], 0.1, group="Final state"),
     Param("vyf", "final vy", "m/s", 5.0, X_LB[3], X_UB[3], 0.1, group="Final state"),
     Param("T_guess", "initial guess T", "s", 2.0, 0.1, T_UB, 0.1, group="Initial guess",
-          help="Paper: T0 = 2 (published 2.464) and T0 = 5 (published 2.529)."),
+          help="Paper: T0 = 2 (published 2.464) and T0 = 5 (published 2.529).",
+          guess=True),
     Param("alpha_guess", "initial guess α (constant)", "rad", 0.0, -np.pi, np.pi, DEG,
           group="Initial guess", display_unit="deg", display_factor=1 / DEG,
-          help="Paper: α = 0, states linear between the ends."),
+          help="Paper: α = 0, states linear between the ends.", guess=True),
     Param("steering", "control variable", "", 0, 0, 2, 1, group="Method", options=STEERING,
           help="The paper steers with α. From α ≡ 0 the angle form is degenerate "
                "(∂v̇x/∂α = -A/m sin α = 0), so by default a cold start first solves the "
@@ -84,14 +85,16 @@ CONSISTENCY = (
 )
 
 PRESETS = (
-    Preset("Paper 004 case (T0 = 2)", {}, note="Published 2.464; true minimum 2.4954276."),
+    Preset("Paper 004 case (T0 = 2)", {}, note="Published 2.464; true minimum 2.4954276.",
+           cold=True),
     Preset("Paper 004 case, guess T0 = 5", {"T_guess": 5.0},
-           note="Published 2.529; the same true minimum is reached."),
+           note="Published 2.529; the same true minimum is reached.", cold=True),
     Preset("Paper's angle form from α ≡ 0 (degenerate start)", {"steering": ANGLE_ONLY},
-           note="Fails: the angle form cannot move away from α ≡ 0."),
+           note="Fails: the angle form cannot move away from α ≡ 0.", cold=True),
     Preset("Angle form from α = 120° (IPOPT)",
            {"steering": ANGLE_ONLY, "alpha_guess": 120 * DEG}, method="hermite-simpson",
-           note="A non-degenerate guess: the paper's formulation converges with IPOPT."),
+           note="A non-degenerate guess: the paper's formulation converges with IPOPT.",
+           cold=True),
     Preset("Thrust-vector form, 10 intervals", {"steering": VECTOR},
            method="multiple-shooting",
            note="Chord control between nodes: 0.2 % slower than the angle form."),

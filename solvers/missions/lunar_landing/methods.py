@@ -31,9 +31,10 @@ PAPER_METHOD = Method(
     ),
     params=(
         Param("sigma0", "initial penalty factor σ", "", 20.0, 0.001, 1000.0, 0.001,
-              group="Method", help="Paper: 20. Smaller σ widens the region of convergence."),
+              group="Method", help="Paper: 20. Smaller σ widens the region of convergence.",
+              guess=True),
         Param("psi_guess", "initial guess ψ (constant)", "rad", 0.0, -80 * DEG, 85 * DEG,
-              DEG, group="Method", display_unit="deg", display_factor=1 / DEG),
+              DEG, group="Method", display_unit="deg", display_factor=1 / DEG, guess=True),
     ),
 )
 

@@ -1,0 +1,1 @@
+"""Vehicle meshes (GLB) and their table, shipped inside the installed package."""

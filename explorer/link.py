@@ -1,0 +1,113 @@
+"""A link that restores a case: the page's address always carries the case on screen (mission,
+method, back end, nodes, the values and view options that differ from the defaults), so a
+person copies it from the address bar or the Export tab and anyone who opens it sees the same
+case.
+
+viser sends no page address to the server, so two small scripts run in the page (an HTML
+element's `onerror`, the one way viser's HTML runs code): one writes the case into the address
+bar (`history.replaceState`) whenever it changes; one reads the address once when the page
+opens and hands its query to a hidden text box, whose update the server turns into
+`Session.restore`. Only numbers and keys are read from the address: nothing a browser sends is
+evaluated.
+"""
+
+from __future__ import annotations
+
+import html
+import json
+from collections.abc import Callable
+from urllib.parse import parse_qsl, urlencode
+
+import viser
+
+from solvers.mission import Mission
+
+from .session import Session
+
+BOX_LABEL = "case from the link"
+_ERROR_IMAGE = "data:image/gif;base64,R0lGODlh"  # a broken image: onerror runs at once
+
+
+def case_query(session: Session) -> str:
+    """The case as a query string: mission, method, back end, nodes, changed values (SI)."""
+    mission = session.mission
+    items = [("mission", mission.key), ("method", session.method), ("nodes", session.nodes)]
+    if session.backend and session.backend != mission.method(session.method).default_backend:
+        items.append(("backend", session.backend))
+    defaults = mission.defaults(session.method)
+    items += [(f"v.{k}", f"{v:.12g}") for k, v in session.values.items() if v != defaults.get(k)]
+    view_defaults = mission.view_defaults()
+    items += [(f"w.{k}", f"{v:.12g}") for k, v in session.view.items()
+              if v != view_defaults.get(k)]
+    return urlencode(items)
+
+
+def parse_case(query: str, missions: dict[str, Mission]
+               ) -> tuple[Mission, str | None, int | None, str | None, dict, dict]:
+    """(mission, method, nodes, backend, values, view) from a query; `ValueError` names
+    what is wrong. Values must be numbers; the session validates their ranges."""
+    fields = dict(parse_qsl(query.lstrip("?"), keep_blank_values=True))
+    key = fields.get("mission")
+    if key not in missions:
+        raise ValueError(f"the link names no known mission ({key!r})")
+    values, view = {}, {}
+    for name, raw in fields.items():
+        if name.startswith(("v.", "w.")):
+            try:
+                number = float(raw)
+            except ValueError:
+                raise ValueError(f"the link's {name[2:]} = {raw!r} is not a number") from None
+            (values if name[0] == "v" else view)[name[2:]] = number
+    nodes = fields.get("nodes")
+    if nodes is not None and not nodes.isdigit():
+        raise ValueError(f"the link's nodes = {nodes!r} is not a whole number")
+    return (missions[key], fields.get("method"), int(nodes) if nodes else None,
+            fields.get("backend"), values, view)
+
+
+def _script(js: str) -> str:
+    return f'<img src="{_ERROR_IMAGE}" style="display:none" onerror="{html.escape(js)}">'
+
+
+def address_html(query: str) -> str:
+    """HTML whose script puts `query` into the address bar (and shows nothing)."""
+    return _script(f"history.replaceState(null, '', '?' + {json.dumps(query)});")
+
+
+READ_ADDRESS = """
+(function () {
+  const label = [...document.querySelectorAll('label')].find(
+      (l) => l.textContent.trim() === LABEL);
+  let row = label, input = null;
+  for (let i = 0; i < 5 && row && !input; i++) {
+    row = row.parentElement;
+    input = row && row.querySelector('input');
+  }
+  if (!input) return;
+  if (row.parentElement) row.parentElement.style.display = 'none';
+  const query = window.location.search.slice(1);
+  if (!query.includes('mission=')) return;
+  const setter = Object.getOwnPropertyDescriptor(HTMLInputElement.prototype, 'value').set;
+  setter.call(input, query);
+  input.dispatchEvent(new Event('input', {bubbles: true}));
+})();
+"""
+
+
+class CaseLink:
+    """The hidden box that receives the opening address, and the element that keeps the
+    address bar up to date. `restore(query)` is called with what the page's address held."""
+
+    def __init__(self, gui: viser.GuiApi, restore: Callable[[str], None]) -> None:
+        self.box = gui.add_text(BOX_LABEL, "", order=-99)
+        self.box.on_update(lambda _: restore(str(self.box.value)) if self.box.value else None)
+        js = READ_ADDRESS.replace("LABEL", json.dumps(BOX_LABEL))
+        self.reader = gui.add_html(_script(js), order=-98)
+        self.writer = gui.add_html("", order=-97)
+        self._query = ""
+
+    def show(self, query: str) -> None:
+        """Put `query` into the address bar of every page watching."""
+        if query != self._query:
+            self._query = query
+            self.writer.content = address_html(query)

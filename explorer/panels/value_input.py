@@ -1,0 +1,166 @@
+"""A parameter's control: a slider to drag and a box to type a value into.
+
+The box forgives: it takes what a person types (`1e4`, `2,500`, `2500 N`), waits until the
+typing has paused (`COMMIT_AFTER`) instead of solving every keystroke, and refuses an empty,
+non-numeric or out-of-range entry with a message that names the range, putting the old value
+back — it never clamps silently. The slider's own number box (which commits every keystroke
+and clamps) is hidden by the page style in `style.py`. Values are shown in the parameter's
+display unit; the session always receives SI.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import threading
+from collections.abc import Callable
+from typing import Any
+
+import viser
+
+from solvers.problem import Param
+
+COMMIT_AFTER = 0.8  # s without typing before a typed value is used
+Apply = Callable[[str, float], None]  # (param key, SI value)
+Report = Callable[[str, str], None]  # (title, message)
+
+
+def clean(x: float) -> float:
+    """Drop binary noise from a unit conversion (0.9650000000000001 -> 0.965)."""
+    return float(f"{x:.12g}")
+
+
+def display_unit(p: Param) -> str:
+    return p.display_unit if p.display_unit is not None else p.unit
+
+
+def label_of(p: Param) -> str:
+    unit = display_unit(p)
+    return f"{p.label} [{unit}]" if unit and not p.options else p.label
+
+
+def to_display(p: Param, si: float) -> float:
+    return clean(si * p.display_factor)
+
+
+def from_display(p: Param, shown: float) -> float:
+    """SI value of a shown value, clamped to [min, max] against round-off of the factor."""
+    si = min(max(shown / p.display_factor, p.min), p.max)
+    if p.integer or p.options:
+        return float(round(si))
+    lo_gap, hi_gap = abs(si - p.min), abs(si - p.max)
+    tol = 1e-9 * max(abs(p.min), abs(p.max), abs(p.step))
+    return float(p.min if lo_gap < tol else p.max if hi_gap < tol else clean(si))
+
+
+def display_range(p: Param) -> tuple[float, float, float]:
+    """(min, max, step) of the slider in display units."""
+    lo, hi = sorted((to_display(p, p.min), to_display(p, p.max)))
+    return lo, hi, clean(abs(p.step * p.display_factor))
+
+
+def shown_text(p: Param, si: float) -> str:
+    """The box's text for an SI value: the display value, no binary noise."""
+    return f"{to_display(p, si):.10g}"
+
+
+def parse_typed(p: Param, text: str) -> float:
+    """The SI value of what a person typed, or `ValueError` with a message naming the range
+    in display units. Takes scientific notation, thousands separators and a trailing unit."""
+    lo, hi, _ = display_range(p)
+    unit = display_unit(p)
+    allowed = f"enter a value from {lo:g} to {hi:g}" + (f" {unit}" if unit else "")
+    raw = text.strip()
+    if unit and raw.endswith(unit):
+        raw = raw[: -len(unit)].strip()
+    raw = re.sub(r"(?<=\d)[,_ ](?=\d{3})", "", raw)
+    try:
+        shown = float(raw)
+    except ValueError:
+        what = "an empty box" if not raw else f"'{text.strip()}'"
+        raise ValueError(f"{what} is not a number: {allowed}") from None
+    if not math.isfinite(shown):
+        raise ValueError(f"'{text.strip()}' is not a finite number: {allowed}")
+    if not lo - 1e-12 * max(abs(lo), abs(hi), 1.0) <= shown <= hi + 1e-12 * max(abs(lo),
+                                                                                  abs(hi), 1.0):
+        raise ValueError(f"{shown:g} is outside the allowed range: {allowed}")
+    if (p.integer or p.options) and shown / p.display_factor != round(shown / p.display_factor):
+        raise ValueError(f"{shown:g} is not a whole number: {allowed}")
+    return from_display(p, shown)
+
+
+class NumberField:
+    """Slider plus typed-value box for one numeric `Param`; `apply(key, si)` receives every
+    accepted value, `report(title, message)` every refused one."""
+
+    def __init__(self, gui: viser.GuiApi, p: Param, value: float, apply: Apply,
+                 report: Report, hint: str | None = None) -> None:
+        self.param, self.apply, self.report = p, apply, report
+        self.value = float(value)
+        lo, hi, step = display_range(p)
+        self.slider = gui.add_slider(label_of(p), lo, hi, step, to_display(p, value), hint=hint)
+        self.box = gui.add_text(" ", shown_text(p, value),
+                                hint=f"Type a value ({lo:g} to {hi:g} {display_unit(p)}); "
+                                     "it is used when you stop typing.")
+        self._syncing = False
+        self._timer: threading.Timer | None = None
+        self._lock = threading.Lock()
+        self.slider.on_update(self._slid)
+        self.box.on_update(self._typed)
+
+    @property
+    def handle(self) -> Any:
+        """The slider (what tests and other code read and move)."""
+        return self.slider
+
+    def show(self, value: float) -> None:
+        """Show an SI value in both widgets without applying it again."""
+        self.value = float(value)
+        self._syncing = True
+        try:
+            self.slider.value = to_display(self.param, value)
+            self.box.value = shown_text(self.param, value)
+        finally:
+            self._syncing = False
+
+    def _slid(self, _: Any) -> None:
+        if self._syncing:
+            return
+        shown = float(self.slider.value)
+        if not math.isfinite(shown):
+            return
+        self.value = from_display(self.param, shown)
+        self._syncing = True
+        try:
+            self.box.value = shown_text(self.param, self.value)
+        finally:
+            self._syncing = False
+        self.apply(self.param.key, self.value)
+
+    def _typed(self, _: Any) -> None:
+        if self._syncing:
+            return
+        with self._lock:
+            if self._timer is not None:
+                self._timer.cancel()
+            self._timer = threading.Timer(COMMIT_AFTER, self.commit)
+            self._timer.daemon = True
+            self._timer.start()
+
+    def commit(self) -> None:
+        """Use the typed text now (after the pause, or at once from tests)."""
+        with self._lock:
+            if self._timer is not None:
+                self._timer.cancel()
+                self._timer = None
+        text = str(self.box.value)
+        if text == shown_text(self.param, self.value):
+            return
+        try:
+            value = parse_typed(self.param, text)
+        except ValueError as exc:
+            self.report(self.param.label, str(exc))
+            self.show(self.value)  # the old value stays, in both widgets
+            return
+        self.show(value)
+        self.apply(self.param.key, value)
