@@ -14,6 +14,7 @@ import traceback
 from pathlib import Path
 
 from .mission import Mission
+from .userproblem.errors import DeclarationError, one_line
 
 
 class MissionFileError(Exception):
@@ -47,7 +48,9 @@ def load_mission_file(path: str | Path) -> Mission:
         if isinstance(exc, KeyboardInterrupt):
             raise
         sys.modules.pop(name, None)
-        detail = exc.msg if isinstance(exc, SyntaxError) else str(exc)
+        if isinstance(exc, DeclarationError) and exc.where:  # it knows the line at fault
+            raise MissionFileError(str(exc)) from None
+        detail = exc.msg if isinstance(exc, SyntaxError) else one_line(exc)
         raise MissionFileError(f"{_where(path, exc)}: {type(exc).__name__}: {detail}") from None
     mission = getattr(module, "MISSION", None)
     if not isinstance(mission, Mission):

@@ -77,10 +77,13 @@ def grid_rows(
 
 
 def solve_summary(mission_key: str, values: Mapping[str, float], method: str | None,
-                  nodes: int | None) -> dict[str, Any]:
-    """Solve one request and return its JSON-ready summary (the work unit of mission sweeps)."""
-    from .registry import get_mission
+                  nodes: int | None, mission_files: Sequence[str] = ()) -> dict[str, Any]:
+    """Solve one request and return its JSON-ready summary (the work unit of mission sweeps);
+    `mission_files` are loaded first when the mission is not known in this process."""
+    from .registry import get_mission, list_missions, load_mission_files
 
+    if mission_files and mission_key not in {m.key for m in list_missions()}:
+        load_mission_files(list(mission_files))
     return get_mission(mission_key).solve(dict(values), method=method, nodes=nodes).to_dict()
 
 
@@ -92,12 +95,14 @@ def mission_grid(
     nodes: int | None = None,
     scheduler: str | None = None,
     workers: int | None = None,
+    mission_files: Sequence[str] = (),
 ) -> list[dict[str, Any]]:
-    """Solve a mission on the Cartesian product of `axes` (param key -> values)."""
+    """Solve a mission on the Cartesian product of `axes` (param key -> values);
+    `mission_files` are loaded by every worker (a mission declared in a file)."""
     keys = list(axes)
     value_sets = [dict(fixed or {}, **dict(zip(keys, combo, strict=True)))
                   for combo in itertools.product(*(axes[k] for k in keys))]
-    return _solve_all(mission_key, value_sets, method, nodes, scheduler, workers)
+    return _solve_all(mission_key, value_sets, method, nodes, scheduler, workers, mission_files)
 
 
 def monte_carlo(
@@ -110,24 +115,25 @@ def monte_carlo(
     nodes: int | None = None,
     scheduler: str | None = None,
     workers: int | None = None,
+    mission_files: Sequence[str] = (),
 ) -> list[dict[str, Any]]:
     """Solve a mission for `runs` value sets drawn by `sampler(rng)` (seeded, repeatable)."""
     rng = np.random.default_rng(seed)
     value_sets = [dict(fixed or {}, **sampler(rng)) for _ in range(runs)]
-    return _solve_all(mission_key, value_sets, method, nodes, scheduler, workers)
+    return _solve_all(mission_key, value_sets, method, nodes, scheduler, workers, mission_files)
 
 
 def _solve_all(mission_key: str, value_sets: list[dict[str, float]], method: str | None,
-               nodes: int | None, scheduler: str | None, workers: int | None
-               ) -> list[dict[str, Any]]:
+               nodes: int | None, scheduler: str | None, workers: int | None,
+               mission_files: Sequence[str] = ()) -> list[dict[str, Any]]:
     n = len(value_sets)
     if scheduler:
         with executor(scheduler, workers) as ex:
             return list(ex.map(solve_summary, [mission_key] * n, value_sets, [method] * n,
-                               [nodes] * n))
+                               [nodes] * n, [list(mission_files)] * n))
     from .service import SolveService, SolveSpec
 
-    with SolveService(workers, prebuild=False) as service:
+    with SolveService(workers, prebuild=False, mission_files=mission_files) as service:
         jobs = [service.submit(SolveSpec(mission_key, method, nodes, values=dict(v)))
                 for v in value_sets]
         rows = []

@@ -1,0 +1,37 @@
+"""Declare your own optimal control problem; the general methods, the CLI and the explorer
+do the rest.
+
+    from solvers.userproblem import Control, FreeTime, Param, State, UserMission
+
+    MISSION = UserMission(key="my-problem", title="...", states=(State("x", "m", ...), ...),
+                          controls=(Control("a", "m/s²", bounds=(-1, 1)),),
+                          dynamics=lambda x, u, p: [x.v, u.a], final_time=FreeTime(2.0),
+                          minimum_time=True)
+
+A mission file defines `MISSION` like this (`python -m solvers solve my-problem
+--mission-file my_problem.py`); docs/own_problem.md describes every field.
+"""
+
+from ..methods import HERMITE_SIMPSON, LGL, MULTIPLE_SHOOTING
+from ..problem import Consistency, Param, Preset, Published
+from .errors import DeclarationError
+from .mission import UserMission
+from .records import Control, FinalConstraint, FreeTime, Named, PathConstraint, State
+
+__all__ = [
+    "HERMITE_SIMPSON",
+    "LGL",
+    "MULTIPLE_SHOOTING",
+    "Consistency",
+    "Control",
+    "DeclarationError",
+    "FinalConstraint",
+    "FreeTime",
+    "Named",
+    "Param",
+    "PathConstraint",
+    "Preset",
+    "Published",
+    "State",
+    "UserMission",
+]

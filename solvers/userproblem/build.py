@@ -1,0 +1,183 @@
+"""The `OCP` of a declaration: scales (from the bounds when not given), bounds and the
+cold-start guess as functions of the parameter vector, boundary conditions and the cost.
+
+Fixed final states become the OCP's terminal conditions; an initial state fixed in full is
+pinned by the variable bounds; a partly fixed initial state and the final constraints become
+boundary rows. Values given as parameter keys follow the sliders without rebuilding.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import casadi as ca
+import numpy as np
+
+from ..ocp import OCP, BoundaryPoint, Bounds, Guess
+from .declaration import Declaration, resolve
+from .functions import Traced
+from .records import FreeTime, State, Value
+
+
+def _values(decl: Declaration, p: np.ndarray) -> dict[str, float]:
+    return dict(zip(decl.param_keys, np.asarray(p, float), strict=True))
+
+
+def symbolic(value: Value, decl: Declaration, p: ca.SX | ca.MX) -> ca.SX | ca.MX | float:
+    """A number, or the parameter it names as an entry of the symbolic vector `p`."""
+    return p[decl.param_keys.index(value)] if isinstance(value, str) else float(value)
+
+
+def _magnitude(values: Sequence[float]) -> float:
+    finite = [abs(v) for v in values if math.isfinite(v) and v != 0]
+    return max(finite) if finite else 1.0
+
+
+def state_scaling(s: State, defaults: dict[str, float]) -> tuple[float, float]:
+    """(offset, scale) of a state: its own scale, else the centre and half-width of finite
+    bounds, else the largest of its values (1 when all are zero)."""
+    if s.scale is not None:
+        return 0.0, float(s.scale)
+    lo, hi = (resolve(b, defaults) for b in s.bounds)
+    if math.isfinite(lo) and math.isfinite(hi):
+        return (lo + hi) / 2, (hi - lo) / 2
+    ends = [resolve(v, defaults) for v in (s.initial, s.final) if v is not None]
+    return 0.0, _magnitude([lo, hi, *ends, s.guess or 0.0])
+
+
+def bound_scale(scale: float | None, lower: float, upper: float) -> float:
+    """A control's or constraint's scale: its own, else the largest finite bound, else 1."""
+    return float(scale) if scale is not None else _magnitude([lower, upper])
+
+
+def _mid(lo: float, hi: float) -> float:
+    """A cold-start value inside [lo, hi]: the centre, or the finite bound, or 0."""
+    if math.isfinite(lo) and math.isfinite(hi):
+        return (lo + hi) / 2
+    return float(np.clip(0.0, lo, hi))
+
+
+def guess_states(decl: Declaration, values: dict[str, float]) -> tuple[np.ndarray, np.ndarray]:
+    """(start, end) of the cold-start guess: fixed values where given, else `guess`, else
+    the other end's fixed value, else mid-range."""
+    start, end = [], []
+    for s in decl.states:
+        lo, hi = (resolve(b, values) for b in s.bounds)
+        init = None if s.initial is None else resolve(s.initial, values)
+        fin = None if s.final is None else resolve(s.final, values)
+        free = s.guess if s.guess is not None else _mid(lo, hi)
+        start.append(init if init is not None else (free if fin is None else fin))
+        end.append(fin if fin is not None else (s.guess if s.guess is not None
+                                                 else (init if init is not None else free)))
+    return np.array(start, float), np.array(end, float)
+
+
+def guess_controls(decl: Declaration, values: dict[str, float]) -> np.ndarray:
+    return np.array([c.guess if c.guess is not None
+                     else _mid(*(resolve(b, values) for b in c.bounds))
+                     for c in decl.controls], float)
+
+
+def final_time_guess(decl: Declaration, values: dict[str, float]) -> float:
+    ft = decl.final_time
+    return ft.guess if isinstance(ft, FreeTime) else resolve(ft, values)
+
+
+def build_ocp(decl: Declaration, traced: Traced) -> OCP:
+    """The OCP the general transcriptions solve (built once per declaration)."""
+    defaults = decl.defaults
+    scaling = [state_scaling(s, defaults) for s in decl.states]
+    x_offset = np.array([o for o, _ in scaling])
+    x_scale = np.array([s for _, s in scaling])
+    u_scale = np.array([bound_scale(c.scale, *(resolve(b, defaults) for b in c.bounds))
+                        for c in decl.controls])
+    sign = -1.0 if decl.maximize else 1.0
+    fixed_start = [i for i, s in enumerate(decl.states) if s.initial is not None]
+    fixed_end = [i for i, s in enumerate(decl.states) if s.final is not None]
+    pinned = len(fixed_start) == len(decl.states)
+    free_time = isinstance(decl.final_time, FreeTime)
+
+    def bounds(p: np.ndarray) -> Bounds:
+        v = _values(decl, p)
+        x = np.array([[resolve(b, v) for b in s.bounds] for s in decl.states], float)
+        u = np.array([[resolve(b, v) for b in c.bounds] for c in decl.controls], float)
+        ft = decl.final_time
+        T_lb, T_ub = (ft.lower, ft.upper) if isinstance(ft, FreeTime) else (0.0, math.inf)
+        return Bounds(x_lb=x[:, 0], x_ub=x[:, 1], u_lb=u[:, 0], u_ub=u[:, 1],
+                      T_lb=T_lb, T_ub=T_ub)
+
+    def guess(p: np.ndarray) -> Guess:
+        v = _values(decl, p)
+        start, end = guess_states(decl, v)
+        return Guess(x_final=end, u=guess_controls(decl, v), T=final_time_guess(decl, v),
+                     x_initial=start)
+
+    def initial_state(p: ca.SX) -> ca.SX:
+        return ca.vertcat(*[symbolic(s.initial, decl, p) for s in decl.states])
+
+    def terminal(xf: ca.SX, p: ca.SX) -> ca.SX:
+        return ca.vertcat(*[xf[i] - symbolic(decl.states[i].final, decl, p) for i in fixed_end])
+
+    rows_lb, rows_ub, rows_scale = _boundary_rows(decl, x_scale, [] if pinned else fixed_start)
+
+    def boundary(point: BoundaryPoint, p: ca.SX) -> ca.SX:
+        rows = [] if pinned else [point.x0[i] - symbolic(decl.states[i].initial, decl, p)
+                                  for i in fixed_start]
+        if traced.final is not None:
+            rows.append(traced.final(point.xf, p))
+        return ca.vertcat(*rows)
+
+    def mayer(xf: ca.SX, T: ca.SX, p: ca.SX) -> ca.SX:
+        value = traced.mayer(xf, p) if traced.mayer is not None else 0.0
+        return sign * (value + (T if decl.minimum_time else 0.0))
+
+    path_scale = np.array([bound_scale(c.scale, c.lower, c.upper) for c in decl.path])
+    ft = decl.final_time
+    return OCP(
+        states=decl.state_names,
+        controls=decl.control_names,
+        state_units=tuple(s.unit for s in decl.states),
+        control_units=tuple(c.unit for c in decl.controls),
+        n_params=len(decl.params),
+        dynamics=lambda x, u, p: traced.f(x, u, p),
+        bounds=bounds,
+        guess=guess,
+        x_scale=x_scale,
+        x_offset=x_offset,
+        u_scale=u_scale,
+        T_scale=final_time_guess(decl, defaults),
+        initial_state=initial_state if pinned else None,
+        terminal=terminal if fixed_end else None,
+        terminal_scale=x_scale[fixed_end],
+        terminal_names=tuple(decl.states[i].name for i in fixed_end),
+        cost_scale=decl.cost_scale,
+        mayer=mayer if (traced.mayer is not None or decl.minimum_time) else None,
+        lagrange=(None if traced.lagrange is None
+                  else lambda x, u, p: sign * traced.lagrange(x, u, p)),
+        fixed_final_time=None if free_time else (lambda p: symbolic(ft, decl, p)),
+        path=(None if traced.path is None
+              else lambda x, u, p: traced.path(x, u, p) / ca.DM(path_scale)),
+        path_lb=np.array([c.lower for c in decl.path]) / path_scale,
+        path_ub=np.array([c.upper for c in decl.path]) / path_scale,
+        boundary=boundary if len(rows_lb) else None,
+        boundary_lb=rows_lb,
+        boundary_ub=rows_ub,
+        boundary_scale=rows_scale,
+    )
+
+
+def _boundary_rows(decl: Declaration, x_scale: np.ndarray, fixed_start: list[int]
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Bounds and scales of the boundary rows: fixed initial states (when the initial state
+    is only partly fixed), then the final constraints."""
+    lb = [0.0] * len(fixed_start) + [c.lower for c in decl.final]
+    ub = [0.0] * len(fixed_start) + [c.upper for c in decl.final]
+    scale = [x_scale[i] for i in fixed_start] + [bound_scale(c.scale, c.lower, c.upper)
+                                                 for c in decl.final]
+    return np.array(lb, float), np.array(ub, float), np.array(scale, float)
+
+
+def parameter_vector(decl: Declaration, values: dict[str, float]) -> np.ndarray:
+    """The OCP's numeric parameters: the declared parameters' values in order."""
+    return np.array([values[k] for k in decl.param_keys], float)

@@ -1,0 +1,75 @@
+"""The re-propagated miss of every constrained final state and final constraint, by name,
+and the check that a mission's records (published numbers, accuracy targets, presets) only
+use names the mission reports."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..problem import validate_values
+from .declaration import Declaration, resolve
+from .errors import DeclarationError
+from .functions import Traced
+from .records import unit_key
+
+if TYPE_CHECKING:
+    from .mission import UserMission
+
+# What every direct solve reports besides its quantities (Solution.stats and .check).
+STATS = ("iterations", "nlp_variables", "nlp_constraints", "constraint_violation", "wall_s",
+         "max_defect")
+
+
+def miss_names(decl: Declaration) -> list[str]:
+    """"<state>_miss_<unit>" per fixed final state, "<constraint>_miss_<unit>" per final
+    constraint (e.g. "v_miss_m_s")."""
+    names = [f"{s.name}_miss{unit_key(s.unit)}" for s in decl.states if s.final is not None]
+    return names + [f"{c.name}_miss{unit_key(c.unit)}" for c in decl.final]
+
+
+def final_misses(decl: Declaration, traced: Traced, p: np.ndarray, x_final: np.ndarray
+                 ) -> dict[str, float]:
+    """Signed miss of each final condition at the end of a re-propagation (its units):
+    the final state minus its target, a final constraint's distance outside its bounds."""
+    values = dict(zip(decl.param_keys, np.asarray(p, float), strict=True))
+    misses = []
+    for s, xf in zip(decl.states, x_final, strict=True):
+        if s.final is not None:
+            misses.append(float(xf - resolve(s.final, values)))
+    if traced.final is not None:
+        g = np.ravel(np.asarray(traced.final(x_final, p), float))
+        for c, gi in zip(decl.final, g, strict=True):
+            misses.append(float(gi - np.clip(gi, c.lower, c.upper)))
+    return dict(zip(miss_names(decl), misses, strict=True))
+
+
+def known_names(decl: Declaration) -> set[str]:
+    """Names a solution of this declaration reports: cost, quantities, statistics, misses."""
+    return ({"cost", "tf"} | {f"{s.name}_final" for s in decl.states} | set(STATS)
+            | set(miss_names(decl)))
+
+
+def check_names(mission: UserMission, where: str) -> None:
+    """Published numbers, consistency records and accuracy targets name what the mission
+    reports; presets and published cases set declared parameters only."""
+    decl = mission.declaration
+    known = known_names(decl)
+    listed = ", ".join(sorted(known))
+    for name, what in ([(p.name, "published") for p in mission.published]
+                       + [(c.name, "consistency") for c in mission.consistency]):
+        if name not in known:
+            raise DeclarationError(f"{what} '{name}' is not reported by this mission "
+                                   f"(names: {listed})", where)
+    misses = miss_names(decl)
+    for key in mission.tolerances:
+        if key not in misses:
+            raise DeclarationError(f"tolerances: '{key}' is not a re-propagated miss (misses: "
+                                   f"{', '.join(misses) or 'none: no final condition'})", where)
+    cases = [(p.name, p.case.values) for p in mission.published if p.case is not None]
+    for name, values in [(p.name, p.values) for p in mission.presets] + cases:
+        try:
+            validate_values(mission.params, values)
+        except ValueError as exc:
+            raise DeclarationError(f"'{name}': {exc}", where) from None

@@ -1,0 +1,295 @@
+"""Mission files: a declared problem loads, solves with the general methods, draws and plots
+with no view code, reports its final misses; a broken file is one line naming the file and
+line; the command line lists, solves and sweeps it."""
+
+from __future__ import annotations
+
+import json
+import pickle
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from solvers.mission_file import MissionFileError, load_mission_file
+from solvers.registry import get_mission, load_mission_files, unregister
+from solvers.userproblem import (
+    Control,
+    DeclarationError,
+    FinalConstraint,
+    FreeTime,
+    State,
+    UserMission,
+)
+
+ROOT = Path(__file__).resolve().parents[2]
+DOUBLE_INTEGRATOR = ROOT / "examples" / "double_integrator.py"
+
+GOOD = '''\
+from solvers.userproblem import Control, FreeTime, State, UserMission
+
+MISSION = UserMission(
+    key="tiny",
+    title="Tiny minimum-time hop",
+    states=(State("x", "m", bounds=(-10, 10), initial=0.0, final=1.0),
+            State("v", "m/s", bounds=(-10, 10), initial=0.0, final=0.0)),
+    controls=(Control("a", "m/s²", bounds=(-1, 1)),),
+    dynamics=lambda x, u, p: [x.v, u.a],
+    final_time=FreeTime(2.0),
+    minimum_time=True,
+)
+'''
+
+
+def _file(tmp_path: Path, text: str, name: str = "problem.py") -> Path:
+    path = tmp_path / name
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def _error(path: Path) -> str:
+    with pytest.raises(MissionFileError) as info:
+        load_mission_file(path)
+    message = str(info.value)
+    assert "\n" not in message
+    return message
+
+
+def _line_of(path: Path, fragment: str) -> int:
+    lines = path.read_text(encoding="utf-8").splitlines()
+    return next(i for i, line in enumerate(lines, 1) if fragment in line)
+
+
+# ---- broken files: one line, file and line ---------------------------------------------------
+def test_syntax_error_names_file_and_line(tmp_path):
+    path = _file(tmp_path, GOOD.replace("minimum_time=True,\n)", "minimum_time=True,\n))"))
+    line = next(i for i, text in enumerate(path.read_text().splitlines(), 1) if text == "))")
+    assert _error(path).startswith(f"{path}:{line}: SyntaxError")
+
+
+def test_dynamics_of_the_wrong_size_name_their_line(tmp_path):
+    path = _file(tmp_path, GOOD.replace("[x.v, u.a]", "[x.v, u.a, 0.0]"))
+    assert _error(path) == (f"{path}:{_line_of(path, 'dynamics=')}: dynamics returns 3 values "
+                            "for 2 states (x, v)")
+
+
+def test_an_unknown_state_name_points_at_the_line_that_uses_it(tmp_path):
+    text = GOOD.replace("dynamics=lambda x, u, p: [x.v, u.a],", "dynamics=rhs,").replace(
+        "MISSION =", "def rhs(x, u, p):\n    accel = u.a\n    return [x.vel, accel]\n\n\n"
+                     "MISSION =")
+    path = _file(tmp_path, text)
+    assert _error(path) == (f"{path}:{_line_of(path, 'x.vel')}: dynamics: unknown state 'vel' "
+                            "(states: x, v)")
+
+
+def test_a_bound_that_excludes_the_initial_state_names_the_state(tmp_path):
+    path = _file(tmp_path, GOOD.replace('bounds=(-10, 10), initial=0.0, final=1.0',
+                                        'bounds=(0.5, 10), initial=0.0, final=1.0'))
+    line = _line_of(path, 'State("x"')
+    assert _error(path) == (f"{path}:{line}: state 'x': initial value 0 is outside its bounds "
+                            "[0.5, 10]")
+
+
+def test_a_function_that_fails_is_reported_at_its_line(tmp_path):
+    path = _file(tmp_path, GOOD.replace("[x.v, u.a]", "[x.v, u.a + gain]"))
+    assert _error(path) == (f"{path}:{_line_of(path, 'dynamics=')}: dynamics: NameError: name "
+                            "'gain' is not defined")
+
+
+def test_dynamics_that_are_not_finite_at_the_guess(tmp_path):
+    path = _file(tmp_path, GOOD.replace("[x.v, u.a]", "[x.v, u.a / x.x]"))
+    assert _error(path).startswith(f"{path}:{_line_of(path, 'dynamics=')}: dynamics is not "
+                                   "finite (v = nan) at the start of the cold-start guess")
+
+
+def test_a_file_without_mission_and_an_error_at_run_time(tmp_path):
+    assert "defines no MISSION" in _error(_file(tmp_path, "X = 1\n"))
+    path = _file(tmp_path, "import math\n\nVALUE = math.sqrt(-1)\n", "runtime.py")
+    assert _error(path) == f"{path}:3: ValueError: math domain error"
+
+
+def test_a_declaration_made_in_python_names_the_callers_line():
+    with pytest.raises(DeclarationError) as info:
+        UserMission(key="no-cost", title="t", states=(State("x", initial=0.0),),
+                    controls=(Control("u"),), dynamics=lambda x, u, p: [u.u],
+                    final_time=1.0)
+    assert str(info.value).startswith(f"{__file__}:")
+    assert str(info.value).endswith("no cost: give mayer, lagrange or minimum_time=True")
+
+
+@pytest.mark.parametrize(("change", "expected"), [
+    ({"published": "bogus"}, "published 'bogus' is not reported by this mission"),
+    ({"tolerances": "x_m"}, "tolerances: 'x_m' is not a re-propagated miss (misses: x_miss)"),
+    ({"key": "Tiny Key"}, "key 'Tiny Key': use lower-case letters"),
+    ({"position": "z"}, "position: unknown state 'z' (states: x)"),
+])
+def test_records_that_name_nothing_are_refused(change, expected):
+    from solvers.problem import Published
+
+    kwargs = dict(key="tiny", title="t", states=(State("x", initial=0.0, final=1.0),),
+                  controls=(Control("u", bounds=(-1, 1)),), dynamics=lambda x, u, p: [u.u],
+                  final_time=FreeTime(2.0), minimum_time=True)
+    if "published" in change:
+        kwargs["published"] = (Published(change["published"], 1.0, "", "nowhere"),)
+    if "tolerances" in change:
+        kwargs["tolerances"] = {change["tolerances"]: 1e-6}
+    if "key" in change:
+        kwargs["key"] = change["key"]
+    if "position" in change:
+        kwargs["position"] = (change["position"],)
+    with pytest.raises(DeclarationError, match=expected.replace("(", r"\(").replace(")", r"\)")):
+        UserMission(**kwargs)
+
+
+# ---- the double integrator: analytic optimum, misses, drawing -------------------------------
+@pytest.fixture(scope="module")
+def double_integrator():
+    return load_mission_file(DOUBLE_INTEGRATOR)
+
+
+@pytest.mark.parametrize("method", ["hermite-simpson", "lgl", "multiple-shooting"])
+def test_double_integrator_reaches_its_analytic_optimum(double_integrator, method):
+    d, T = 2.5, 1.5
+    sol = double_integrator.solve({"distance": d, "duration": T}, method=method)
+    assert sol.ok, sol.message
+    assert sol.cost.value == pytest.approx(6 * d**2 / T**3, rel=1e-8)
+    # u(t) = 6 d / T² (1 - 2 t / T) at every node
+    np.testing.assert_allclose(sol.node_u[:, 0], 6 * d / T**2 * (1 - 2 * sol.node_t / T),
+                               atol=1e-6)
+    assert sol.quantities["x_final"].value == pytest.approx(d, abs=1e-9)
+    assert abs(sol.check["x_miss_m"]) < 1e-8 and abs(sol.check["v_miss_m_s"]) < 1e-8
+
+
+def test_the_other_nlp_back_end_needs_no_extra_code(double_integrator):
+    sol = double_integrator.solve({}, method="multiple-shooting", backend="sqp")
+    assert sol.ok and sol.backend == "sqp"
+    assert sol.cost.value == pytest.approx(6.0, rel=1e-8)
+
+
+def test_a_user_mission_draws_plots_pickles_and_explains_itself(double_integrator):
+    sol = double_integrator.solve({}, method="hermite-simpson")
+    pres = double_integrator.present(sol)
+    assert pres.path.shape == (len(sol.t), 3)
+    np.testing.assert_allclose(pres.path[:, 0], sol.x[:, 0])  # position = ("x",)
+    assert [p.title for p in pres.plots] == ["x", "v", "a"]
+    assert [m.name for m in pres.markers] == ["start", "end"]
+    assert pickle.loads(pickle.dumps(sol)).cost.value == sol.cost.value
+    assert "| x | m | [-20, 20] | 0 | `distance` |" in double_integrator.help
+    assert "cost = 6" in double_integrator.help
+
+
+def test_parameter_values_outside_a_bound_are_refused_before_solving(tmp_path):
+    mission = load_mission_file(_file(tmp_path, GOOD.replace(
+        'final=1.0),', 'final="target"),').replace(
+        "MISSION = UserMission(\n", "MISSION = UserMission(\n    params=(Param("
+        "'target', 'target', 'm', 1.0, 0.0, 20.0, 0.5),),\n").replace(
+        "import Control,", "import Param, Control,")))
+    sol = mission.solve({"target": 15.0})
+    assert sol.status == "infeasible"
+    assert "final x = 15 m is outside its bounds [-10, 10]" in sol.message
+
+
+def test_a_minimum_time_problem_with_free_final_time(tmp_path):
+    mission = load_mission_file(_file(tmp_path, GOOD))
+    for method in ("hermite-simpson", "lgl"):
+        sol = mission.solve({}, method=method)
+        # bang-bang: accelerate 1 s, brake 1 s
+        assert sol.ok and sol.cost.value == pytest.approx(2.0, rel=1e-3), method
+
+
+def test_free_initial_state_final_constraints_and_a_position_function():
+    """x(0) free, v(0) = 1; x(1) >= 1 and v(1) = 0 as final constraints; cost ∫a²/2 + x(1).
+    Braking uniformly (a = -1, cost 1/2) covers 1/2 m, so the optimum starts at x(0) = 1/2
+    and stops on the bound x(1) = 1: cost 3/2. The path is drawn by a function."""
+    mission = UserMission(
+        key="free-start", title="t",
+        states=(State("x", "m", bounds=(-5, 5)), State("v", "m/s", initial=1.0)),
+        controls=(Control("a", "m/s²", bounds=(-50, 50)),),
+        dynamics=lambda x, u, p: [x.v, u.a], lagrange=lambda x, u, p: 0.5 * u.a**2,
+        mayer=lambda xf, p: xf.x,
+        final=(FinalConstraint("reach", lambda xf, p: xf.x, lower=1.0, upper=np.inf,
+                               unit="m"),
+               FinalConstraint("stop", lambda xf, p: xf.v, unit="m/s")),
+        final_time=1.0, position=lambda x, p: (x.x, 2 * x.x))
+    for method in ("hermite-simpson", "multiple-shooting"):
+        sol = mission.solve({}, method=method)
+        assert sol.ok, sol.message
+        assert sol.cost.value == pytest.approx(1.5, rel=1e-8)
+        assert sol.node_x[0, 0] == pytest.approx(0.5, abs=1e-8)
+        assert set(sol.check) == {"max_defect", "reach_miss_m", "stop_miss_m_s"}
+        assert abs(sol.check["reach_miss_m"]) < 1e-8 and abs(sol.check["stop_miss_m_s"]) < 1e-8
+    pres = mission.present(sol)
+    np.testing.assert_allclose(pres.path[:, 1], 2 * sol.x[:, 0])
+    assert pres.frame == "the problem's position function"
+
+
+def test_warm_starts_across_an_edited_and_reloaded_file(tmp_path):
+    path = _file(tmp_path, GOOD)
+    first = load_mission_file(path)
+    sol = first.solve({}, method="hermite-simpson")
+    warm = first.solve({}, method="hermite-simpson", warm=sol)
+    assert warm.ok and warm.stats["iterations"] < sol.stats["iterations"]
+    # A new target: same NLP size, the old optimum is a good start.
+    path.write_text(GOOD.replace("final=1.0", "final=2.0"), encoding="utf-8")
+    moved = load_mission_file(path).solve({}, method="hermite-simpson", warm=sol)
+    assert moved.ok and moved.cost.value == pytest.approx(2 * np.sqrt(2), rel=1e-3)
+    # A new state: the old warm start does not fit and is dropped, not a failure.
+    path.write_text(GOOD.replace("[x.v, u.a]", "[x.v, u.a, 1.0]").replace(
+        "final=0.0)),", "final=0.0),\n            State(\"clock\", \"s\", initial=0.0)),"),
+        encoding="utf-8")
+    grown = load_mission_file(path).solve({}, method="hermite-simpson", warm=sol)
+    assert grown.ok and grown.quantities["clock_final"].value == pytest.approx(2.0, rel=1e-3)
+
+
+def test_folders_and_clashes_in_the_registry(tmp_path):
+    _file(tmp_path, GOOD, "a.py")
+    _file(tmp_path, GOOD.replace('key="tiny"', 'key="lunar-landing"'), "b.py")
+    try:
+        errors = load_mission_files([str(tmp_path)])
+        assert get_mission("tiny").title == "Tiny minimum-time hop"
+        assert list(errors) == [str(tmp_path / "b.py")]
+        assert "built-in mission" in errors[str(tmp_path / "b.py")]
+    finally:
+        unregister("tiny")
+
+
+# ---- the command line ----------------------------------------------------------------------
+def _cli(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "solvers", *args], capture_output=True,
+                          text=True, timeout=120, cwd=ROOT)
+
+
+def test_cli_lists_a_mission_file_like_a_built_in_one():
+    res = _cli("list", "--mission-file", str(DOUBLE_INTEGRATOR))
+    assert res.returncode == 0, res.stderr
+    lines = res.stdout.splitlines()
+    assert any(line.startswith("double-integrator ") for line in lines)
+    assert any(line.startswith("lunar-landing ") for line in lines)
+
+
+def test_cli_solves_a_mission_file_as_json():
+    res = _cli("solve", "double-integrator", "--mission-file", str(DOUBLE_INTEGRATOR),
+               "--method", "lgl", "--set", "distance=2", "--json")
+    assert res.returncode == 0, res.stderr
+    out = json.loads(res.stdout)
+    assert out["status"] == "optimal" and out["method"] == "lgl"
+    assert out["cost"]["value"] == pytest.approx(24.0, rel=1e-8)
+    assert abs(out["check"]["x_miss_m"]) < 1e-8  # the worker ran the re-propagation
+
+
+def test_cli_refuses_a_broken_file_with_its_line(tmp_path):
+    path = _file(tmp_path, GOOD.replace("[x.v, u.a]", "[x.v]"))
+    res = _cli("solve", "tiny", "--mission-file", str(path))
+    assert res.returncode == 2
+    assert res.stderr.strip() == (f"error: {path}:{_line_of(path, 'dynamics=')}: dynamics "
+                                  "returns 1 value for 2 states (x, v)")
+
+
+def test_cli_sweeps_a_mission_file():
+    res = _cli("sweep", "double-integrator", "--mission-file", str(DOUBLE_INTEGRATOR),
+               "--grid", "distance=1,2", "--workers", "1")
+    assert res.returncode == 0, res.stderr
+    costs = [float(line.split()[2]) for line in res.stdout.splitlines()[1:]]
+    assert costs == pytest.approx([6.0, 24.0], rel=1e-8)

@@ -1,0 +1,96 @@
+"""The gallery in examples/: every published or analytic optimum a mission file records is
+reached by each of its (two or more) methods within the record's tolerance, with the
+re-propagated misses inside the file's accuracy targets; the keep-out example really bends
+around its keep-out zone."""
+
+from __future__ import annotations
+
+import json
+from functools import cache
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from solvers.mission_file import load_mission_file
+from solvers.problem import Published
+from solvers.solution import Solution
+from solvers.userproblem import UserMission
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+FILES = sorted(p.name for p in EXAMPLES.glob("*.py"))
+
+
+@cache
+def mission(name: str) -> UserMission:
+    return load_mission_file(EXAMPLES / name)
+
+
+@cache
+def _solve(name: str, method: str, values: str) -> Solution:
+    return mission(name).solve(json.loads(values), method=method)
+
+
+def solved(name: str, method: str, values: dict[str, float] | None = None) -> Solution:
+    """A checked solution, solved once per test session."""
+    return _solve(name, method, json.dumps(values or {}, sort_keys=True))
+
+
+def _cases() -> list:
+    cases = []
+    for name in FILES:
+        m = mission(name)
+        assert len(m.methods) >= 2, f"{name}: a gallery example offers two methods or more"
+        for pub in m.published:
+            for method in pub.methods or [meth.key for meth in m.methods]:
+                cases.append(pytest.param(name, pub, method,
+                                          id=f"{Path(name).stem}-{pub.name}-{pub.value:.10g}-"
+                                             f"{method}"))
+    return cases
+
+
+def test_the_gallery_has_three_classics_with_published_optima():
+    with_optimum = [name for name in FILES if mission(name).published]
+    assert len(with_optimum) >= 4  # the double integrator and at least three classics
+    assert any(m.declaration.path for m in map(mission, FILES))  # and path constraints
+
+
+@pytest.mark.parametrize(("name", "pub", "method"), _cases())
+def test_published_optimum(name: str, pub: Published, method: str) -> None:
+    values = dict(pub.case.values) if pub.case is not None else {}
+    sol = solved(name, method, values)
+    assert sol.ok, f"{name}/{method}: {sol.message}"
+    value = sol.value(pub.name)
+    assert pub.agrees(value), (f"{name}/{method}: {pub.name} = {value!r}, published "
+                               f"{pub.value!r} ({pub.source}; rtol {pub.rtol}, atol {pub.atol})")
+    for key, tolerance in mission(name).tolerances.items():
+        assert abs(sol.check[key]) <= tolerance, f"{name}/{method}: {key} = {sol.check[key]:.3g}"
+
+
+@pytest.mark.parametrize("name", FILES)
+def test_every_example_draws_and_plots(name: str) -> None:
+    m = mission(name)
+    sol = solved(name, m.methods[0].key)
+    pres = m.present(sol)
+    assert pres.path.shape == (len(sol.t), 3) and np.isfinite(pres.path).all()
+    titles = [p.title for p in pres.plots]
+    assert len(titles) == len(sol.state_names) + len(sol.control_names) + len(
+        m.declaration.path)
+    assert m.help.startswith(m.summary)
+
+
+def test_keep_out_zone_is_respected_and_active() -> None:
+    name = "keep_out_rendezvous.py"
+    radius = mission(name).defaults()["keep_out"]
+    costs = {}
+    for method in ("hermite-simpson", "multiple-shooting"):
+        sol = solved(name, method)
+        assert sol.ok, sol.message
+        distance = np.hypot(sol.node_x[:, 0], sol.node_x[:, 1])
+        assert distance.min() >= radius * (1 - 1e-8)  # never inside at a node
+        assert (distance < radius + 0.5).sum() >= 5  # slides along the sphere: an active arc
+        costs[method] = sol.cost.value
+    assert costs["hermite-simpson"] == pytest.approx(costs["multiple-shooting"], rel=1e-6)
+    free = solved(name, "hermite-simpson", {"keep_out": 100.0})
+    assert np.hypot(free.node_x[:, 0], free.node_x[:, 1]).min() < 0.6 * radius  # it would cut in
+    assert free.cost.value < 0.8 * costs["hermite-simpson"]  # the detour costs effort
