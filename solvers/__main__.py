@@ -15,7 +15,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from .mission import Mission
-from .registry import get_mission, list_missions
+from .registry import expand_mission_paths, get_mission, list_missions, load_mission_files
 from .service import SolveService, SolveSpec
 from .solution import Solution
 
@@ -36,13 +36,25 @@ class _BadInput(Exception):
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="python -m solvers", description=__doc__)
     sub = parser.add_subparsers(dest="command", required=True)
-    sub.add_parser("list", help="the built-in missions and their methods")
+    listing = sub.add_parser("list", help="the missions (built-in and from --mission-file) "
+                                          "and their methods")
     params = sub.add_parser("params", help="a mission's parameters with units and ranges")
     params.add_argument("mission")
     solve = sub.add_parser("solve", help="solve one mission")
     solve.add_argument("mission")
     solve.add_argument("--method", help="method key (default: the mission's first)")
-    solve.add_argument("--nodes", type=int, help="node/segment count (default: the method's)")
+    solve.add_argument("--nodes", type=_nodes,
+                       help="node/segment count (default: the method's), or 'auto': refine "
+                            "until the re-propagated miss meets the accuracy targets")
+    solve.add_argument("--tol", type=float,
+                       help="with --nodes auto: the headline accuracy target, in its unit "
+                            "(the mission's first target; the others scale with it)")
+    solve.add_argument("--cold", action="store_true",
+                       help="solve from the method's initial guess (the CLI has no previous "
+                            "answer); with --nodes auto, every refinement step too")
+    solve.add_argument("--multistart", type=int, default=1, metavar="K",
+                       help="solve from K cold guesses, keep the best, report the distinct "
+                            "optima")
     solve.add_argument("--backend", help="NLP back end, e.g. ipopt or sqp")
     solve.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                        help="parameter value in SI units (repeatable)")
@@ -62,9 +74,22 @@ def build_parser() -> argparse.ArgumentParser:
     sweep.add_argument("--scheduler", help="dask.distributed scheduler address (tcp://...)")
     sweep.add_argument("--workers", type=int, help="local worker processes (default: cores)")
     sweep.add_argument("--out", metavar="FILE", help="write every solution summary as JSON")
+    for command in (listing, params, solve, sweep):
+        command.add_argument("--mission-file", action="append", default=[], metavar="F",
+                             help="a mission file (a folder: its *.py files); repeatable")
     sub.add_parser("launch-map", add_help=False,
                    help="asteroid launch-C3 map, PNG and data (python -m solvers launch-map -h)")
     return parser
+
+
+def _nodes(text: str) -> int | str:
+    """--nodes: a whole number or 'auto'."""
+    if text == "auto":
+        return text
+    try:
+        return int(text)
+    except ValueError:
+        raise _BadInput(f"--nodes expects a whole number or 'auto', got '{text}'") from None
 
 
 def parse_assignments(items: Sequence[str]) -> dict[str, float]:
@@ -111,7 +136,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         for value in axes[key]:
             mission.validate({**fixed, key: value}, args.method, args.nodes)
     rows = mission_grid(mission.key, axes, fixed, args.method, args.nodes, args.scheduler,
-                        args.workers)
+                        args.workers, mission_files=args.files)
     if args.out:
         with open(args.out, "w", encoding="utf-8") as fh:
             json.dump(rows, fh, allow_nan=False)
@@ -174,10 +199,20 @@ def check_request(mission: Mission, values: dict[str, float], method: str | None
         raise _BadInput(f"method '{m.key}' has no back end '{backend}' (back ends: {known_b})")
 
 
-def solve_isolated(spec: SolveSpec) -> Solution:
+def load_files(paths: Sequence[str]) -> list[str]:
+    """Register the mission files given with --mission-file (a folder: its *.py files) and
+    return them as absolute paths for the worker processes; a broken file is bad input."""
+    errors = load_mission_files(list(paths))
+    if errors:
+        raise _BadInput(next(iter(errors.values())))
+    return [str(p.resolve()) for p in expand_mission_paths(list(paths))]
+
+
+def solve_isolated(spec: SolveSpec, mission_files: Sequence[str] = ()) -> Solution:
     """Solve in a worker process of its own: Ctrl-C stops it at once (even inside a native
-    solver) and a time limit is enforced by stopping the process."""
-    with SolveService(1, prebuild=False) as service:
+    solver) and a time limit is enforced by stopping the process. `mission_files` are
+    loaded by the worker."""
+    with SolveService(1, prebuild=False, mission_files=mission_files) as service:
         job = service.submit(spec)
         while not job.done.wait(0.1):
             pass
@@ -190,10 +225,17 @@ def solve_isolated(spec: SolveSpec) -> Solution:
 def _cmd_solve(args: argparse.Namespace) -> int:
     mission = get_mission(args.mission)
     values = parse_assignments(args.set)
-    check_request(mission, values, args.method, args.nodes, args.backend, args.time_limit)
+    auto = args.nodes == "auto"
+    check_request(mission, values, args.method, None if auto else args.nodes, args.backend,
+                  args.time_limit)
+    if args.tol is not None:
+        mission.accuracy_targets(args.tol)  # a bad --tol is bad input (exit 2)
+    if args.multistart < 1:
+        raise _BadInput(f"--multistart must be at least 1, not {args.multistart}")
     _writable(args.csv, "--csv")
     sol = solve_isolated(SolveSpec(mission.key, args.method, args.nodes, args.backend, values,
-                                   time_limit=args.time_limit))
+                                   time_limit=args.time_limit, tol=args.tol,
+                                   starts=args.multistart, cold=args.cold), args.files)
     if args.csv:
         with open(args.csv, "w", encoding="utf-8") as fh:
             fh.write(sol.to_csv())
@@ -205,7 +247,11 @@ def _cmd_solve(args: argparse.Namespace) -> int:
         print(f"  {sol.summary()}")
         print(f"  {sol.message}")
         for key, value in sol.check.items():
-            print(f"  check {key:24s} {value:.3e}")
+            target = f"  (target {sol.targets[key]:g})" if key in sol.targets else ""
+            print(f"  check {key:24s} {value:.3e}{target}")
+        for step in sol.mesh:
+            print(f"  mesh  {int(step['nodes']):5d} nodes: miss {step['miss']:.3e}, "
+                  f"{step['worst_ratio']:.3g} x target, {step['solve_s']:.2f} s")
     return 0 if sol.ok else EXIT_NOT_OPTIMAL
 
 
@@ -217,6 +263,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return launch_map_main(argv[1:])
     try:
         args = build_parser().parse_args(argv)
+        args.files = load_files(args.mission_file)
         if args.command == "list":
             print(_cmd_list())
             return 0

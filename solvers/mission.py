@@ -3,8 +3,9 @@ call and one presentation call.
 
 A mission package (`solvers/missions/<key>/`) subclasses `Mission` with its records; methods
 with a general `transcription` are solved here from the mission's `OCP` (`ocp`,
-`parameter_vector`, and the optional hooks `precheck`, `record`, `terminal_miss`), and a
-paper's own methods by the mission's `_solve`. `present` turns a numeric `Solution` into what
+`parameter_vector`, and the optional hooks `precheck`, `record`, `terminal_miss`,
+`interval_error_norm`, `indirect_reference`), and a paper's own methods by the mission's
+`_solve`. `present` turns a numeric `Solution` into what
 the explorer draws.
 """
 
@@ -21,6 +22,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .optimality import too_few_nodes
 from .problem import Consistency, Method, Param, Preset, Published, validate_values
 from .solution import Quantity, Solution
 
@@ -152,7 +154,7 @@ class Mission:
         self,
         values: Mapping[str, float] | None,
         method: str | None = None,
-        nodes: int | None = None,
+        nodes: int | str | None = None,
     ) -> tuple[dict[str, float], Method, int]:
         """Complete and check a request; raise `ValueError` naming what is wrong."""
         m = self.method(method)
@@ -163,6 +165,8 @@ class Mission:
         vals = validate_values(self.all_params(m.key), own)
         lo, default, hi = m.nodes
         n = default if nodes is None else nodes
+        if isinstance(n, str):
+            raise ValueError(f"{m.nodes_label} must be a whole number or 'auto', not {n!r}")
         if int(n) != n or not lo <= n <= hi:
             raise ValueError(f"{m.nodes_label} = {n} is outside the allowed range [{lo}, {hi}]")
         self.check_values(vals)
@@ -172,14 +176,27 @@ class Mission:
         """Cross-parameter consistency checks; raise `ValueError` with a message."""
 
     # ---- solving ------------------------------------------------------------------------
+    def accuracy_targets(self, tol: float | None = None) -> dict[str, float]:
+        """The re-propagated miss targets (`tolerances`); `tol` replaces the headline (first)
+        target, in its unit, and scales the others by the same factor."""
+        targets = dict(self.tolerances)
+        if tol is None or not targets:
+            return targets
+        if not (np.isfinite(tol) and tol > 0):
+            raise ValueError(f"tol must be a positive number, not {tol}")
+        factor = float(tol) / next(iter(targets.values()))
+        return {k: v * factor for k, v in targets.items()}
+
     def solve(
         self,
         values: Mapping[str, float] | None = None,
         method: str | None = None,
-        nodes: int | None = None,
+        nodes: int | str | None = None,
         *,
+        tol: float | None = None,
         backend: str | None = None,
         warm: Solution | None = None,
+        cold: bool = False,
         progress: ProgressCallback | None = None,
         cancel: threading.Event | None = None,
         time_limit: float | None = None,
@@ -188,10 +205,24 @@ class Mission:
         """Solve one request. Bad input raises `ValueError`; everything else returns a
         `Solution` whose `status` and `message` say what happened.
 
-        `warm` is a previous solution to start from (None: the method's initial guess).
+        `nodes="auto"` refines the mesh until the re-propagated miss meets the accuracy
+        targets (`solvers.refine`; `tol` sets the headline target, see `accuracy_targets`).
+        `warm` is a previous solution to start from (None: the method's initial guess);
+        `cold=True` ignores it and, with "auto", starts every refinement step from the
+        initial guess too (an answer that depends on nothing but the request).
         `verify=False` defers the re-propagation check (`Solution.run_check()`), so a live
-        view can draw the new optimum before the high-accuracy integration has run.
+        view can draw the new optimum before the high-accuracy integration has run (an
+        "auto" solve always checks: refinement needs the miss).
         """
+        if nodes == "auto":
+            from .refine import solve_auto
+
+            return solve_auto(self, values, method, tol=tol, backend=backend,
+                              warm=None if cold else warm, cold=cold, progress=progress,
+                              cancel=cancel, time_limit=time_limit)
+        if cold:
+            warm = None
+        targets = self.accuracy_targets(tol)
         vals, m, n = self.validate(values, method, nodes)
         if backend is not None and backend not in m.backends:
             known = ", ".join(m.backends) or "none: this method has no choice of back end"
@@ -217,6 +248,7 @@ class Mission:
             sol = self.empty(vals, m, n, chosen_backend, "failed", f"solver failure: {exc}")
         sol.stats["wall_s"] = ctx.elapsed()
         sol.stats.setdefault("iterations", ctx.iterations)
+        sol.targets = targets
         if verify and sol.has_trajectory:
             sol.run_check()
         return sol
@@ -262,6 +294,15 @@ class Mission:
         """The re-propagated miss of each terminal condition, SI, keyed "<name>_<unit>"."""
         return {}
 
+    def interval_error_norm(self, dx: np.ndarray) -> tuple[np.ndarray, str] | None:
+        """Each interval's local error (rows of state differences, the OCP's units) in the
+        unit of the headline miss, and that unit; None: the mission reports none."""
+        return None
+
+    def indirect_reference(self, sol: Solution, p: np.ndarray) -> None:
+        """Solve the maximum principle from `sol`'s costates (if the mission has it): the
+        extremal into `sol.references`, the agreement into `sol.quantities` (deferred)."""
+
     def check_atol(self, ocp: OCP) -> np.ndarray:
         """Absolute tolerances of the re-propagation (per state, the OCP's units)."""
         return 1e-11 * np.asarray(ocp.x_scale, float)
@@ -270,7 +311,10 @@ class Mission:
         self, values: dict[str, float], method: Method, nodes: int, backend: str,
         warm: Solution | None, ctx: SolveContext,
     ) -> Solution:
-        """Solve with a general transcription of `self.ocp(...)` (no mission code)."""
+        """Solve with a general transcription of `self.ocp(...)` (no mission code); the
+        deferred check adds the interval errors and the indirect reference
+        (`interval_error.checked`)."""
+        from . import interval_error
         from .transcription import direct_transcription
 
         p = self.parameter_vector(values)
@@ -278,12 +322,16 @@ class Mission:
         problem = self.ocp(method, values)
         transcription = direct_transcription(method.transcription, problem, nodes, backend,
                                              **dict(method.options))
-        start = warm.warm if warm is not None and warm.ok else None
+        start = warm.warm if warm is not None and warm.converged else None
         res = transcription.solve(p, start, ctx)
+        if res.status != "optimal" and nodes < method.nodes[1]:
+            res.message = too_few_nodes(method, nodes, res.message)
         sol = self.direct_solution(values, method, nodes, backend, problem, res)
         self.record(sol, res, p)
         if res.status == "optimal":
-            sol.checker = lambda: self.check_direct(problem, p, res)
+            sol.checker = lambda: interval_error.checked(self, sol, problem, p, res)
+        elif res.defects is not None:  # where the answer fails: its constraint violation
+            interval_error.record_defects(self, sol, *res.defects)
         return sol
 
     def direct_solution(

@@ -198,7 +198,10 @@ class OCPResult:
     statics: np.ndarray = field(default_factory=_none)
     costates: Series | None = None
     hamiltonian: Series | None = None
-    interval_error: Series | None = None
+    # (max H - min H) / the largest term of H: 0 for an exact extremal (constant H).
+    hamiltonian_variation: float = float("nan")
+    # The dynamics constraints at the last point (times, rows in the states' units).
+    defects: tuple[np.ndarray, np.ndarray] | None = None
 
     def record_nlp(self, sol: Solution) -> None:
         """Put this solve's NLP statistics, warm start, own defect and optimality estimates
@@ -209,8 +212,24 @@ class OCPResult:
         sol.warm = self.warm
         sol.check["max_defect"] = self.max_violation
         sol.control_interpolation = self.control_interpolation
-        sol.costates = self.costates
-        sol.hamiltonian = self.hamiltonian
+        if self.costates is not None and self.hamiltonian is not None:
+            from .transcription.costates import costate_units
+
+            cost_unit = sol.cost.unit
+            sol.costates = Series(self.costates.t, self.costates.values, self.costates.names,
+                                  costate_units(cost_unit, sol.state_units))
+            sol.hamiltonian = Series(self.hamiltonian.t, self.hamiltonian.values, ("value",),
+                                     (f"{cost_unit or '1'}/s",))
+            sol.stats["hamiltonian_variation"] = self.hamiltonian_variation
+
+    def controls(self, t: np.ndarray) -> np.ndarray:
+        """`control` at many times at once: (len(t), nu)."""
+        t = np.asarray(t, float)
+        if self.control_interpolation == "polynomial":
+            from .transcription.lgl import interpolate
+
+            return interpolate(self.t_nodes, self.U, t)
+        return np.column_stack([np.interp(t, self.t_nodes, col) for col in self.U.T])
 
     def control(self, t: float, x: np.ndarray | None = None) -> np.ndarray:
         """The control between nodes exactly as the transcription defines it: piecewise

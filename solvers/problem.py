@@ -19,7 +19,8 @@ class Param:
     (e.g. metres shown as km with factor 1e-3); `options` turns the parameter into a
     choice whose value is the index of the chosen option. `guess=True` marks a parameter of
     the initial guess or of the solver's start: changing it solves from the initial guess
-    (a warm start from the last answer would ignore it).
+    (a warm start from the last answer would ignore it). `epoch` makes a day count a date:
+    the GUI shows and takes it as an ISO date.
     """
 
     key: str
@@ -36,6 +37,7 @@ class Param:
     options: tuple[str, ...] = ()
     integer: bool = False
     guess: bool = False
+    epoch: str | None = None  # ISO date: the value counts days from it (shown as a date)
 
     def __post_init__(self) -> None:
         if not self.min <= self.default <= self.max:

@@ -18,7 +18,11 @@ from typing import Any
 
 import numpy as np
 
-STATUSES = ("optimal", "infeasible", "iteration-limit", "time-limit", "cancelled", "failed")
+# "optimal": converged and the re-propagated miss meets the mission's accuracy targets;
+# "inaccurate": converged, but the re-propagation misses a target (refine the mesh);
+# "infeasible": a named physical bound proves the request impossible.
+STATUSES = ("optimal", "inaccurate", "infeasible", "iteration-limit", "time-limit",
+            "cancelled", "failed")
 
 
 def _empty(*shape: int) -> Callable[[], np.ndarray]:
@@ -139,6 +143,12 @@ class Solution:
     switching: Series | None = None
     interval_error: Series | None = None
     mesh: list[dict[str, float]] = field(default_factory=list)
+    # Accuracy targets of the re-propagated miss (keys of `check`, SI): an "optimal" answer
+    # that misses one becomes "inaccurate" when the check runs.
+    targets: dict[str, float] = field(default_factory=dict)
+    # The cold starts of a multi-start solve (`solvers.multistart`): cost, converged (0/1)
+    # and the guess values of each.
+    starts: list[dict[str, float]] = field(default_factory=list)
     warm: WarmStart | None = field(default=None, repr=False)
     # The deferred re-propagation check (see `Mission.solve(verify=False)`); it stays in the
     # process that solved: never pickled.
@@ -152,6 +162,17 @@ class Solution:
     @property
     def ok(self) -> bool:
         return self.status == "optimal"
+
+    @property
+    def converged(self) -> bool:
+        """The method converged (optimal, or inaccurate on re-propagation): usable as a warm
+        start and as the start of a refinement."""
+        return self.status in ("optimal", "inaccurate")
+
+    def misses(self) -> dict[str, tuple[float, float]]:
+        """The re-propagated misses beyond their targets: key -> (miss, target)."""
+        return {k: (self.check[k], tol) for k, tol in self.targets.items()
+                if k in self.check and not abs(self.check[k]) <= tol}
 
     @property
     def has_trajectory(self) -> bool:
@@ -181,7 +202,25 @@ class Solution:
                     raise
                 self.check["error"] = float("nan")  # a failed check is reported, not fatal
                 self.message += f" (re-propagation check failed: {exc})"
+            self.judge()
         return self.check
+
+    def judge(self) -> None:
+        """"optimal" becomes "inaccurate" when the re-propagated miss exceeds a target, or
+        when the check could not measure it (its accuracy is then unknown)."""
+        if self.status != "optimal":
+            return
+        if "error" in self.check:
+            self.status = "inaccurate"
+            self.message += " — its accuracy is unknown: the re-propagation check failed"
+            return
+        missed = self.misses()
+        if not missed:
+            return
+        self.status = "inaccurate"
+        worst = ", ".join(f"{k} = {v:.3g} (target {tol:g})" for k, (v, tol) in missed.items())
+        self.message += (f" — inaccurate: re-propagating the control misses {worst}; refine "
+                         "the mesh (more nodes, or nodes='auto')")
 
     def summary(self) -> str:
         """One line for a status bar or a terminal."""
@@ -218,9 +257,13 @@ class Solution:
             "node_t": _arr(self.node_t),
             "node_x": _arr(self.node_x),
             "node_u": _arr(self.node_u),
-            "mesh": [{k: _num(v) for k, v in step.items()} for step in self.mesh],
+            "mesh": {"nodes": self.nodes,
+                     "steps": [{k: _num(v) for k, v in step.items()} for step in self.mesh]},
+            "targets": {k: _num(v) for k, v in self.targets.items()},
         }
-        for name in ("costates", "hamiltonian", "switching"):
+        if self.starts:
+            out["starts"] = [{k: _num(v) for k, v in row.items()} for row in self.starts]
+        for name in ("costates", "hamiltonian", "switching", "interval_error"):
             series = getattr(self, name)
             if series is not None:
                 out["switching_function" if name == "switching" else name] = series.to_dict()

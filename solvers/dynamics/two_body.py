@@ -117,7 +117,9 @@ def propagate_relative(
     """
     scale = float(np.linalg.norm(r_t0))
     speed = float(np.linalg.norm(v_t0))
-    rel_scale = max(float(np.linalg.norm(rel0[:3])), 1.0)
+    # A floor of 1 km: with (nearly) no relative motion an absolute tolerance below the
+    # round-off of the gravity difference (~1e-12 m over a minute) stalls the integrator.
+    rel_scale = max(float(np.linalg.norm(rel0[:3])), 1e3)
     atol = np.concatenate([np.full(3, 1e-3 * scale * rtol), np.full(3, 1e-3 * speed * rtol),
                            np.full(3, 1e-3 * rel_scale * rtol),
                            np.full(3, 1e-3 * rel_scale * rtol * speed / scale)])

@@ -22,6 +22,12 @@ from .exterior_penalty import penalty_functions, solve_exterior_penalty
 __all__ = ["NLP", "NLPResult", "built_once", "status_of"]
 
 SNAPSHOT_ITERATIONS = frozenset({0, 1, 2, 3, 5, 8, 13, 21, 34, 55, 89})
+# Solver verdicts that stop short of a proof: at a point that satisfies the constraints to
+# FEASIBLE (scaled) they are re-checked by a warm re-solve, never reported as infeasible.
+STALLED = frozenset({"Infeasible_Problem_Detected", "Restoration_Failed",
+                     "Error_In_Step_Computation", "Search_Direction_Becomes_Too_Small",
+                     "Invalid_Number_Detected", "Feasible_Point_Found"})
+FEASIBLE = 1e-8
 
 _IPOPT_COMMON = {
     "ipopt.print_level": 0,
@@ -73,6 +79,8 @@ class NLPResult:
     success: bool
     max_violation: float
     history: list[tuple[int, np.ndarray]] = field(default_factory=list)
+    # The first verdict when a stalled solve at a feasible point was re-solved from it.
+    rechecked: str = ""
 
 
 class _IterationHook(ca.Callback):
@@ -170,13 +178,9 @@ class NLP:
         ctx: SolveContext | None = None,
     ) -> NLPResult:
         """Solve once; raises `Cancelled`/`TimeLimit` when the context asks to stop."""
-        warm = lam_x0 is not None and lam_g0 is not None
-        history: list[tuple[int, np.ndarray]] = []
         stop_reason: list[Exception] = []
 
         def on_iteration(k: int, x: np.ndarray) -> bool:
-            if k in SNAPSHOT_ITERATIONS:
-                history.append((k, x.copy()))
             if ctx is None:
                 return False
             try:
@@ -188,12 +192,35 @@ class NLP:
 
         if self.backend == "penalty-bfgs":
             return self._solve_penalty(x0, p, lbx, ubx, lbg, ubg, ctx)
+        res = self._solve_once(x0, p, lbx, ubx, lbg, ubg, lam_x0, lam_g0, on_iteration,
+                               stop_reason)
+        if not res.success and res.return_status in STALLED and res.max_violation <= FEASIBLE:
+            # A solver verdict at a point that satisfies the constraints proves nothing:
+            # re-check the point by a warm re-solve from it (it is often optimal).
+            again = self._solve_once(res.x, p, lbx, ubx, lbg, ubg, res.lam_x, res.lam_g,
+                                     on_iteration, stop_reason)
+            again.iterations += res.iterations
+            again.history = res.history + again.history
+            again.rechecked = res.return_status
+            res = again
+        return res
+
+    def _solve_once(self, x0, p, lbx, ubx, lbg, ubg, lam_x0, lam_g0, on_iteration,
+                    stop_reason: list[Exception]) -> NLPResult:
+        warm = lam_x0 is not None and lam_g0 is not None
+        history: list[tuple[int, np.ndarray]] = []
+
+        def hook(k: int, x: np.ndarray) -> bool:
+            if k in SNAPSHOT_ITERATIONS:
+                history.append((k, x.copy()))
+            return on_iteration(k, x)
+
         args = {"x0": x0, "p": p, "lbx": lbx, "ubx": ubx, "lbg": lbg, "ubg": ubg}
         if warm:
             args.update(lam_x0=lam_x0, lam_g0=lam_g0)
         with self._lock:
             solver = self._solver(warm)
-            self._hook.handler = on_iteration
+            self._hook.handler = hook
             self._hook.count = 0
             try:
                 out = solver(**args)
@@ -221,7 +248,6 @@ class NLP:
             history=history,
         )
 
-
     def _solve_penalty(self, x0, p, lbx, ubx, lbg, ubg, ctx) -> NLPResult:
         """The exterior penalty method (paper 000, eq. 12) on the same NLP."""
         with BUILD_LOCK:
@@ -246,17 +272,29 @@ class NLP:
 
 
 def status_of(result: NLPResult) -> tuple[str, str]:
-    """Map a back end's return status to the Solution vocabulary and a human message."""
+    """Map a back end's return status to the Solution vocabulary and a human message.
+
+    A solver never proves a request impossible here: "infeasible" is only for a named
+    physical bound (`Mission.precheck`). A local infeasibility is "failed" with the
+    violation it stopped at; a stalled solve at a feasible point (re-solved once from it by
+    `NLP.solve`) says that the solver did not converge from this guess."""
     rs = result.return_status
+    again = f" (re-solved from a feasible point after {result.rechecked})" \
+        if result.rechecked else ""
     if result.success or rs in ("Solve_Succeeded", "Solved_To_Acceptable_Level"):
-        return "optimal", f"converged in {result.iterations} iterations"
-    if "Infeasib" in rs or rs in ("Restoration_Failed",):
-        return "infeasible", (
-            f"the solver found no feasible trajectory ({rs}, constraint violation "
-            f"{result.max_violation:.2g}): the request may be impossible, or the guess too poor"
-        )
-    if "Maximum_Iterations" in rs or "Maximum_Iter" in rs:
+        return "optimal", f"converged in {result.iterations} iterations{again}"
+    if "Maximum_Iter" in rs:
         return "iteration-limit", f"stopped at the iteration limit ({result.iterations})"
+    if result.max_violation <= FEASIBLE and rs != "Penalty_Not_Converged":
+        return "failed", (
+            f"the solver did not converge from this guess: it stopped ({rs}) at a point that "
+            f"satisfies the constraints (violation {result.max_violation:.2g}) without "
+            "proving it optimal; try another guess, more iterations or a warm start")
+    if "Infeasib" in rs or rs in ("Restoration_Failed",):
+        return "failed", (
+            f"the solver found no feasible trajectory from this guess ({rs}, constraint "
+            f"violation {result.max_violation:.2g}): the request may be impossible, or the "
+            "guess too poor (no physical bound proves it impossible)")
     if rs == "Penalty_Not_Converged":
         return "iteration-limit", (
             f"the exterior penalty method stopped at its largest penalty factor with constraint "

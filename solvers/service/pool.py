@@ -86,6 +86,7 @@ class _Worker:
     def __init__(self, index: int, process: mp.Process, conn: Connection) -> None:
         self.index, self.process, self.conn = index, process, conn
         self.ready = threading.Event()
+        self.prebuilt = threading.Event()  # its start-up builds are done
         self.job: Job | None = None  # the solve it runs
         self.checking: dict[int, Job] = {}  # solves whose check it still owes
         self.rss = 0
@@ -193,6 +194,8 @@ class SolveService:
                 job.checked.set()
         elif kind == "rss":
             w.rss = msg[1]
+        elif kind == "prebuilt":
+            w.prebuilt.set()
         elif kind == "mission-errors":
             self.mission_errors.update(msg[1])
 
@@ -319,6 +322,14 @@ class SolveService:
         deadline = time.monotonic() + timeout
         return all(w.ready.wait(max(deadline - time.monotonic(), 0.0)) for w in self._workers)
 
+    def wait_prebuilt(self, timeout: float = 300.0) -> bool:
+        """Block until every worker has built its start-up NLPs (benchmarks measure after)."""
+        if not self.prebuild:
+            return self.wait_ready(timeout)
+        deadline = time.monotonic() + timeout
+        return all(w.prebuilt.wait(max(deadline - time.monotonic(), 0.0))
+                   for w in list(self._workers))
+
     def pids(self) -> list[int]:
         return [w.process.pid for w in self._workers if w.alive and w.process.pid]
 
@@ -333,6 +344,15 @@ class SolveService:
         """A session closed: drop its worker affinity."""
         with self._lock:
             self._affinity.pop(session, None)
+
+    def reload_mission_files(self, mission_files: Sequence[str]) -> None:
+        """Every worker loads the mission files again before its next solve (running solves
+        finish undisturbed); workers started later load them too."""
+        self.mission_files = list(mission_files)
+        with self._lock:
+            for w in self._workers:
+                if w.alive:
+                    w.send(("reload", self.mission_files))
 
     def restart_workers(self, mission_files: Sequence[str] | None = None) -> None:
         """Replace every worker (e.g. a mission file changed); running solves fail."""

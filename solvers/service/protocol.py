@@ -2,10 +2,12 @@
 
 Messages are tuples whose first item names them (all picklable):
 
-server -> worker: ("solve", job_id, SolveSpec) · ("cancel", job_id) · ("stop",)
+server -> worker: ("solve", job_id, SolveSpec) · ("cancel", job_id) · ("stop",) ·
+                  ("reload", mission_files)
 worker -> server: ("ready", pid) · ("progress", job_id, iteration, text) ·
                   ("result", job_id, Solution) · ("error", job_id, text) (bad input) ·
-                  ("check", job_id, CheckUpdate) · ("rss", bytes) · ("retire", reason)
+                  ("check", job_id, CheckUpdate) · ("rss", bytes) · ("retire", reason) ·
+                  ("prebuilt",) (its start-up builds are done)
 """
 
 from __future__ import annotations
@@ -21,34 +23,45 @@ class SolveSpec:
 
     mission: str
     method: str | None = None
-    nodes: int | None = None
+    nodes: int | str | None = None  # a count, or "auto" (refine to the accuracy targets)
     backend: str | None = None
     values: dict[str, float] = field(default_factory=dict)
     warm: Solution | None = None
     time_limit: float | None = None
     verify: bool = True  # run the re-propagation check after sending the result
     test_hook: str | None = None  # "hang" / "crash" / "stop": only with test hooks enabled
+    tol: float | None = None  # the headline accuracy target (see `Mission.accuracy_targets`)
+    starts: int = 1  # cold starts of a multi-start solve (`solvers.multistart`)
+    cold: bool = False  # ignore `warm`; with nodes "auto", every refinement step cold too
 
 
 @dataclass
 class CheckUpdate:
-    """What the deferred re-propagation check adds to a solution already delivered."""
+    """What the deferred re-propagation check adds to a solution already delivered: the
+    miss, the verdict on it (status "inaccurate" when it misses a target), the local error
+    of every interval and the indirect reference."""
 
     check: dict[str, float]
     quantities: dict[str, Quantity]
     references: dict[str, Series]
     message: str
+    status: str = "optimal"
+    interval_error: Series | None = None
+    stats: dict[str, float] = field(default_factory=dict)
 
     @staticmethod
     def of(sol: Solution) -> CheckUpdate:
         return CheckUpdate(dict(sol.check), dict(sol.quantities), dict(sol.references),
-                           sol.message)
+                           sol.message, sol.status, sol.interval_error, dict(sol.stats))
 
     def apply(self, sol: Solution) -> None:
         sol.check.update(self.check)
         sol.quantities.update(self.quantities)
         sol.references.update(self.references)
         sol.message = self.message
+        sol.status = self.status
+        sol.interval_error = self.interval_error
+        sol.stats.update(self.stats)
 
 
 def light_warm(sol: Solution | None) -> Solution | None:

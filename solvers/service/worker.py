@@ -21,6 +21,7 @@ import time
 from multiprocessing.connection import Connection
 from typing import Any
 
+from ..multistart import multistart
 from ..nlp.cache import clear_built
 from ..registry import get_mission, load_mission_files
 from ..solution import Solution
@@ -71,7 +72,7 @@ class Worker:
                     self.dropped.add(msg[1])
                     if self.current is not None and self.current[0] == msg[1]:
                         self.current[1].set()
-            elif kind == "stop":
+            elif kind in ("stop", "reload"):
                 self.inbox.put(msg)
 
     # ---- the main thread -----------------------------------------------------------------
@@ -85,6 +86,11 @@ class Worker:
             if msg is not None:
                 if msg[0] == "stop":
                     return
+                if msg[0] == "reload":
+                    errors = load_mission_files(msg[1])
+                    if errors:
+                        self.conn.send(("mission-errors", errors))
+                    continue
                 self.solve(msg[1], msg[2])
                 if self.inbox.empty():
                     self.solve_waiting.clear()
@@ -112,9 +118,15 @@ class Worker:
             self.misbehave(spec.test_hook)
         try:
             mission = get_mission(spec.mission)
-            sol = mission.solve(spec.values, spec.method, spec.nodes, backend=spec.backend,
-                                warm=spec.warm, progress=progress, cancel=cancel,
-                                time_limit=spec.time_limit, verify=False)
+            if spec.starts > 1:
+                sol = multistart(mission, spec.values, spec.method, spec.nodes,
+                                 starts=spec.starts, tol=spec.tol, backend=spec.backend,
+                                 progress=progress, cancel=cancel, time_limit=spec.time_limit)
+            else:
+                sol = mission.solve(spec.values, spec.method, spec.nodes, tol=spec.tol,
+                                    backend=spec.backend, warm=spec.warm, cold=spec.cold,
+                                    progress=progress, cancel=cancel,
+                                    time_limit=spec.time_limit, verify=False)
         except ValueError as exc:
             self.conn.send(("error", job_id, str(exc)))
             return
@@ -124,6 +136,8 @@ class Worker:
         self.conn.send(("result", job_id, sol))
         if spec.verify and sol.checker is not None:
             self.checks.append((job_id, sol))
+        elif spec.verify:  # checked already (an "auto" or multi-start solve), or no check
+            self.conn.send(("check", job_id, CheckUpdate.of(sol)))
 
     def check_one(self) -> None:
         job_id, sol = self.checks.popleft()
@@ -155,6 +169,8 @@ class Worker:
             return
         if cancel.is_set():
             self.prebuild.appendleft((key, method))
+        elif not self.prebuild:
+            self.conn.send(("prebuilt",))
 
     def mind_memory(self) -> None:
         rss = resident_bytes()

@@ -16,7 +16,9 @@ import numpy as np
 from ..mission import SolveContext
 from ..nlp.casadi_nlp import NLP, status_of
 from ..ocp import OCP, BoundaryPoint, OCPResult
-from ..solution import Iterate, WarmStart
+from ..optimality import active_state_bounds
+from ..solution import Iterate, Series, WarmStart
+from .costates import CostatePoints, Endpoints, defect_multipliers, estimate
 
 
 class DirectTranscription(ABC):
@@ -84,6 +86,13 @@ class DirectTranscription(ABC):
     @abstractmethod
     def _dynamics(self, X: ca.SX, U: ca.SX, T: ca.SX, p: ca.SX) -> tuple[ca.SX, ca.SX]:
         """Scaled dynamics constraints (vector) and the running cost in the problem's units."""
+
+    @abstractmethod
+    def costate_points(self, mu: np.ndarray, X: np.ndarray, U: np.ndarray, T: float,
+                       p: np.ndarray, ends: Endpoints) -> CostatePoints:
+        """The method's covector mapping: costates from the multipliers `mu` (rows: one per
+        dynamics-constraint block, unscaled, `costates.defect_multipliers`); `ends` for the
+        methods that need the transversality conditions."""
 
     @abstractmethod
     def dense(
@@ -215,6 +224,23 @@ class DirectTranscription(ABC):
         X, U, T, t0, statics = self._unpack(res.x, p)
         status, message = status_of(res)
         t_dense, X_dense, U_dense = self.dense(T, X, U, p, dense_per_interval)
+        bounds = self.ocp.bounds(p)
+        lam_X = res.lam_x[:self.ocp.nx * (self.N + 1)].reshape(self.N + 1, self.ocp.nx)
+        active = active_state_bounds(
+            X, lam_X, bounds.x_lb, bounds.x_ub, self.ocp.x_scale, self.ocp.states,
+            lam_scale=float(np.max(np.abs(res.lam_g), initial=0.0)))
+        if active and status == "optimal":
+            message += (f"; state bound active on {', '.join(active)}: the costates may jump "
+                        "there (the maximum principle applies in its state-constrained form)")
+        costates = hamiltonian = None
+        variation = float("nan")
+        if len(res.lam_g) and np.any(res.lam_g[: self.n_defects] != 0):
+            ends = Endpoints(X[0], X[-1], t0, T, statics,
+                             res.lam_g[self.n_defects:self.n_defects + self.n_terminal
+                                       + self.n_boundary],
+                             res.lam_x[:self.ocp.nx],
+                             res.lam_x[self.N * self.ocp.nx:(self.N + 1) * self.ocp.nx])
+            costates, hamiltonian, variation = self.costates(res.lam_g, X, U, p, ends)
         history = []
         for k, z in res.history:
             Xk, _, Tk, _, _ = self._unpack(z, p)
@@ -240,7 +266,25 @@ class DirectTranscription(ABC):
             control_interpolation=self.control_interpolation,
             t0=t0,
             statics=statics,
+            costates=costates,
+            hamiltonian=hamiltonian,
+            hamiltonian_variation=variation,
+            defects=self.defect_points(res.g[:self.n_defects], T),
         )
+
+    def defect_points(self, g: np.ndarray, T: float) -> tuple[np.ndarray, np.ndarray]:
+        """The dynamics constraints at the NLP's last point, unscaled (rows: intervals, or
+        nodes for LGL, in the states' units), at the interval midpoints (or nodes): where a
+        failed answer fails."""
+        rows = np.asarray(g, float).reshape(self.N, -1) * np.asarray(self.ocp.x_scale, float)
+        return (self.tau[1:] + self.tau[:-1]) / 2 * T, rows
+
+    def costates(self, lam_g: np.ndarray, X: np.ndarray, U: np.ndarray, p: np.ndarray,
+                 ends: Endpoints) -> tuple[Series, Series, float]:
+        """Costate and Hamiltonian estimates (the OCP's units) from the NLP multipliers."""
+        mu = defect_multipliers(lam_g, self.n_defects // self.ocp.nx, self.ocp)
+        points = self.costate_points(mu, X, U, ends.T, p, ends)
+        return estimate(self.ocp, points, p, X[-1], ends.T)
 
 
 def _resample(tau: np.ndarray, tau_from: np.ndarray, values: np.ndarray) -> np.ndarray:

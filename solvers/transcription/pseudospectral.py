@@ -13,8 +13,10 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
+from .costates import CostatePoints, Endpoints, transversality
 from .direct import DirectTranscription
 from .lgl import interpolate, lgl_differentiation, lgl_nodes, lgl_weights
+from .lgl_costates import lgl_costates
 
 
 class LGLPseudospectral(DirectTranscription):
@@ -40,6 +42,30 @@ class LGLPseudospectral(DirectTranscription):
             running = T / 2 * ca.mtimes(L, ca.DM(lgl_weights(N)))
         return ca.vec(defects), running
 
+    def costate_points(self, mu: np.ndarray, X: np.ndarray, U: np.ndarray, T: float,
+                       p: np.ndarray, ends: Endpoints) -> CostatePoints:
+        """The LGL covector mapping with closure conditions (`lgl_costates`)."""
+        A = np.asarray(self._state_jacobian()(X.T, U.T, np.tile(p[:, None], (1, self.N + 1))))
+        A = A.reshape(self.ocp.nx, self.N + 1, self.ocp.nx).transpose(1, 0, 2)
+        lam = lgl_costates(mu, A, T, transversality(self.ocp, ends, p))
+        return CostatePoints(self.tau * T, lam, X, U)
+
+    def defect_points(self, g: np.ndarray, T: float) -> tuple[np.ndarray, np.ndarray]:
+        """The collocation residuals D x - (T/2) f at the nodes, weighted by the quadrature
+        weights (each node's share of the integral of x' - f: a state difference)."""
+        rows = np.asarray(g, float).reshape(self.N + 1, -1) * np.asarray(self.ocp.x_scale)
+        return self.tau * T, rows * lgl_weights(self.N)[:, None]
+
+    def _state_jacobian(self) -> ca.Function:
+        """df/dx at every node (mapped)."""
+        if not hasattr(self, "_jac_x"):
+            x = ca.SX.sym("x", self.ocp.nx)
+            u = ca.SX.sym("u", self.ocp.nu)
+            q = ca.SX.sym("p", self.ocp.n_params)
+            self._jac_x = ca.Function("f_x", [x, u, q], [ca.jacobian(self.fn.f(x, u, q), x)]
+                                      ).map(self.N + 1)
+        return self._jac_x
+
     def dense(
         self, T: float, X: np.ndarray, U: np.ndarray, p: np.ndarray, per_interval: int
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -47,4 +73,5 @@ class LGLPseudospectral(DirectTranscription):
         nodes (so a plot passes exactly through the node markers)."""
         s = np.union1d(np.linspace(0.0, 1.0, self.N * per_interval + 1), self.tau)
         return s * T, interpolate(self.tau, X, s), interpolate(self.tau, U, s)
+
 

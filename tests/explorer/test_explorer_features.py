@@ -307,8 +307,11 @@ def test_every_mission_and_method_equation_renders_as_mathml():
     pytest.importorskip("latex2mathml")
     from explorer.about import mathml
     from solvers import list_missions
+    from solvers.registry import mission_file_of
 
     for mission in list_missions():
+        if mission_file_of(mission.key) is not None:
+            continue  # a user's mission file needs no equations
         assert mission.equations, f"{mission.key} has no equations for its About panel"
         for caption, latex in mission.equations + tuple(
                 eq for m in mission.methods for eq in m.equations):

@@ -144,7 +144,10 @@ def test_low_thrust_fast_case_reproduces_the_papers_shape(fast_solution):
     """Paper 003 §4 and fig. 3 (40 segments instead of 150 to stay fast): launch on one of the
     paper's dates, bang–bang thrust with two main burns, |U| <= Fmax at every node."""
     sol = fast_solution
-    assert sol.status == "optimal", sol.message
+    # 40 segments converge but miss the arrival by thousands of km on re-propagation: the
+    # status says so (issue 12) instead of "optimal".
+    assert sol.status == "inaccurate", sol.message
+    assert "arrival_position_miss_m" in sol.message and "nodes='auto'" in sol.message
     launch = MJD_2022 + sol.quantities["launch_date"].value
     assert _near_paper_launch(launch, 3.0), iso_from_mjd(launch)
     assert sol.quantities["flight_time"].value <= 700.0 + 1e-6
@@ -224,7 +227,7 @@ def test_solution_carries_what_the_explorer_draws(fast_solution):
 @pytest.mark.parametrize("method", [m.key for m in MISSION.methods])
 def test_every_method_pickles_and_presents(solved, method):
     sol = solved("asteroid-rendezvous", method, 40 if method == "hermite-simpson" else None, {})
-    assert sol.ok, sol.message
+    assert sol.converged, sol.message
     copy = pickle.loads(pickle.dumps(sol))
     assert copy.checker is None and copy.cost.value == sol.cost.value
     assert copy.check == sol.check
@@ -254,12 +257,14 @@ def test_impulsive_method_arcs_hit_the_asteroid():
     assert sizes[0] ** 2 <= 20e6 * (1 + 1e-9)
 
 
-def test_no_launch_energy_is_reported_infeasible():
+def test_no_launch_energy_is_reported_unsolved_with_the_reason():
     """Paper eq. 13 read literally (departure at Earth's velocity): 120 mN cannot make the
-    ~4 km/s plane change plus the phasing within 700 d."""
+    ~4 km/s plane change plus the phasing within 700 d. No bound proves it (the engine's
+    Δv budget, 5.2 km/s, exceeds the plane change), so it is not called infeasible: the
+    solver found no feasible trajectory, and the message says why that is expected."""
     sol = MISSION.solve({"c3_max": 0.0}, nodes=20, verify=False)
-    assert sol.status == "infeasible"
-    assert "plane change" in sol.message
+    assert sol.status == "failed"
+    assert "no feasible trajectory" in sol.message and "plane change" in sol.message
 
 
 def test_bad_window_is_rejected():
@@ -284,7 +289,9 @@ def test_paper_case_each_guess_kind(kind):
     """Paper 003 §4 at 150 segments: each guess kind converges to a bang–bang transfer with two
     main burns launched on one of the paper's dates."""
     sol = MISSION.solve({"guess_kind": kind})
-    assert sol.status == "optimal", sol.message
+    # The 700 d multi-revolution transfer (kind 2) misses by about 1,200 km at 150 segments:
+    # converged, and "inaccurate" by the mission's 100 km target (issue 12).
+    assert sol.converged, sol.message
     launch = MJD_2022 + sol.quantities["launch_date"].value
     assert _near_paper_launch(launch, 3.0), iso_from_mjd(launch)
     assert sol.quantities["burn_arcs"].value == 2

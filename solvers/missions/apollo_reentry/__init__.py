@@ -15,14 +15,28 @@ import numpy as np
 from ...methods import HERMITE_SIMPSON, LGL, MULTIPLE_SHOOTING
 from ...mission import Mission, SolveContext
 from ...ocp import OCP, OCPResult
+from ...optimality import PMP_COSTATES, PMP_TRAJECTORY, record_costate_error
 from ...problem import Method
-from ...solution import Solution
+from ...solution import Quantity, Series, Solution
+from ...transcription.costates import costate_units
 from ...verify import repropagate
 from . import problem, view
-from .model import R_EARTH, ReentryExtremal, solve_indirect, to_model
-from .problem import P_V0, P_VF, P_XI0, P_XIF
+from .model import (
+    LENGTH_UNIT,
+    R_EARTH,
+    STATE_UNITS,
+    STATES,
+    ReentryExtremal,
+    solve_indirect,
+    to_model,
+    to_si,
+)
+from .problem import COST_UNIT, P_V0, P_VF, P_XI0, P_XIF
 
 __all__ = ["MISSION", "R_EARTH", "ApolloReentry", "indirect_solution"]
+
+# Model units per SI unit of each state: costates in model units are SI costates times this.
+SI_PER_MODEL = np.array([LENGTH_UNIT, 1.0, R_EARTH])
 
 
 class ApolloReentry(Mission):
@@ -78,6 +92,10 @@ class ApolloReentry(Mission):
     def terminal_miss(self, p: np.ndarray, x_final: np.ndarray) -> dict[str, float]:
         return problem.terminal_miss(p, x_final)
 
+    def interval_error_norm(self, dx: np.ndarray) -> tuple[np.ndarray, str]:
+        """Local error in altitude (the headline: the end altitude), m."""
+        return np.abs(dx[:, 2]) * R_EARTH, "m"
+
     def check_direct(self, ocp: OCP, p: np.ndarray, res: OCPResult) -> dict[str, float]:
         """Re-propagate the method's own control (linear between nodes, or the LGL
         polynomial) with DOP853 together with the heat load; the terminal miss in SI and the
@@ -89,15 +107,48 @@ class ApolloReentry(Mission):
         miss["J_repropagated_rel_error"] = float(X[-1, 3] / res.cost - 1)
         return miss
 
+    def indirect_reference(self, sol: Solution, p: np.ndarray) -> None:
+        """Indirect multiple shooting (`model.solve_indirect`) started from the costate
+        estimate: the extremal, its J and T and the costate agreement."""
+        if sol.costates is None:
+            return
+        try:
+            ext = indirect_solution(sol)
+        except FloatingPointError:
+            ext = None
+        if ext is None or not ext.converged:
+            sol.message += " (indirect shooting did not converge from the costate estimate)"
+            return
+        store_extremal(sol, ext)
+
     _present = staticmethod(view.present)
 
 
 def indirect_solution(sol: Solution, n_segments: int = 10) -> ReentryExtremal:
     """The maximum-principle extremal started from a direct solution of this mission (its
-    dense SI samples converted back to the model's units); J and T in S&B units and s."""
+    dense SI samples converted back to the model's units, and its costate estimate when it
+    has one); J and T in S&B units and s."""
     p = problem.parameter_vector(sol.values)
+    lam = None
+    if sol.costates is not None:
+        est = sol.costates
+        lam = np.column_stack([np.interp(sol.t, est.t, col) for col in np.asarray(est.values).T])
+        lam = lam * SI_PER_MODEL
     return solve_indirect(sol.t, to_model(sol.x), sol.u[:, 0], p[P_V0 : P_XI0 + 1],
-                          p[P_VF : P_XIF + 1], n_segments=n_segments)
+                          p[P_VF : P_XIF + 1], n_segments=n_segments, lam=lam)
+
+
+def store_extremal(sol: Solution, ext: ReentryExtremal) -> None:
+    """The extremal in SI as `sol.references` (trajectory and costates), its J and T, and
+    the costate agreement."""
+    sol.references[PMP_TRAJECTORY] = Series(
+        ext.t, np.column_stack([to_si(ext.Y[:, :3]), ext.u]), (*STATES, "u"),
+        (*STATE_UNITS, "rad"))
+    sol.references[PMP_COSTATES] = Series(
+        ext.t, ext.Y[:, 3:] / SI_PER_MODEL, STATES, costate_units(COST_UNIT, STATE_UNITS))
+    sol.quantities["J_pontryagin"] = Quantity(ext.cost, "J (maximum principle)", COST_UNIT)
+    sol.quantities["T_pontryagin"] = Quantity(ext.T, "T (maximum principle)", "s")
+    record_costate_error(sol)
 
 
 MISSION = ApolloReentry()

@@ -40,6 +40,8 @@ from scipy.optimize import root
 from scipy.sparse import coo_matrix
 from scipy.sparse.linalg import spsolve
 
+from ...verify import checkpoint
+
 # Stoer & Bulirsch's constants (SPEC M5), units of 1e5 ft and s.
 R = 209.0
 BETA = 4.26
@@ -155,6 +157,7 @@ def _segment(y0: np.ndarray, T: float, tau0: float, tau1: float
     n = 2 * NX
 
     def rhs_var(_: float, z: np.ndarray) -> np.ndarray:
+        checkpoint()
         J, g = (np.asarray(a) for a in fn["var"](z[:n]))
         S = z[n:].reshape(n, n + 1)  # [dy/dy0, dy/dT]
         dS = T * (J @ S)
@@ -253,16 +256,18 @@ def estimate_costates(t: np.ndarray, X: np.ndarray, U: np.ndarray) -> np.ndarray
 
 def solve_indirect(
     t: np.ndarray, X: np.ndarray, U: np.ndarray, x0: np.ndarray, xf: np.ndarray, *,
-    n_segments: int = 10, dense: int = 40,
+    n_segments: int = 10, dense: int = 40, lam: np.ndarray | None = None,
 ) -> ReentryExtremal:
     """Indirect multiple shooting started from a direct solution (model units).
 
     `t`, `X`, `U` are dense samples of the direct solution (states (K, 3), control (K,));
-    the shooting nodes are `n_segments` equal intervals in tau. Raises `FloatingPointError`
-    when a segment cannot be integrated (a start too far from any extremal).
+    `lam` its costates at those samples (the multiplier estimate), or None to fit them
+    (`estimate_costates`); the shooting nodes are `n_segments` equal intervals in tau.
+    Raises `FloatingPointError` when a segment cannot be integrated (a start too far from
+    any extremal).
     """
     T0 = float(t[-1])
-    lam = estimate_costates(t, X, U)
+    lam = estimate_costates(t, X, U) if lam is None else np.asarray(lam, float)
     tau = np.linspace(0.0, 1.0, n_segments + 1)
     Y0 = np.column_stack([X, lam])
     guess = np.column_stack([np.interp(tau[:-1], t / T0, Y0[:, j]) for j in range(2 * NX)])

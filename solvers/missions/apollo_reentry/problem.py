@@ -14,6 +14,7 @@ from ...nlp.cache import built_once
 from ...ocp import OCP, Bounds, Guess, OCPResult
 from ...problem import Consistency, Param, Preset, Published
 from ...solution import Iterate, Quantity, Solution
+from ...transcription.costates import rescale
 from . import model
 
 DEG = np.pi / 180
@@ -60,9 +61,10 @@ PARAMS = (
           group="Bounds", display_unit="km", display_factor=1e-3,
           help="Paper: ξ ≤ 0.03 (and ξ ≥ 0)."),
     Param("T_guess", "initial guess T", "s", 230.0, 50.0, 1000.0, 1.0, group="Initial guess",
-          help="Paper: 230 s; the paper found its method sensitive to this guess only."),
+          help="Paper: 230 s; the paper found its method sensitive to this guess only.",
+          guess=True),
     Param("u_guess", "initial guess u (constant)", "rad", 0.0, -np.pi / 2, np.pi / 2, DEG,
-          group="Initial guess", display_unit="deg", display_factor=1 / DEG),
+          group="Initial guess", display_unit="deg", display_factor=1 / DEG, guess=True),
 )
 
 VIEW_PARAMS = (
@@ -114,7 +116,7 @@ CONSISTENCY = (
 PRESETS = (
     Preset("Paper 004 case: multiple shooting, 10 intervals", {},
            method="multiple-shooting", nodes=10,
-           note="The paper's mesh: J about 1 % above the converged optimum."),
+           note="The paper's mesh: J about 1 % above the converged optimum.", cold=True),
     Preset("Reference: Hermite–Simpson, 160 intervals", {}, method="hermite-simpson",
            nodes=160, note="Agrees with the indirect solution to 1e-6."),
     Preset("Reference: LGL, 60 nodes", {}, method="lgl", nodes=60),
@@ -223,6 +225,9 @@ def record(sol: Solution, res: OCPResult) -> None:
     sol.x, sol.node_x = model.to_si(X), model.to_si(res.X)
     sol.history = [Iterate(it.iteration, it.t, model.to_si(it.x)) for it in res.history]
     sol.arcs = [(0.0, res.T, "coast")]
+    sol.costates = rescale(sol.costates, state_factor=np.array([LU, 1.0, model.R_EARTH]),
+                           cost_factor=1.0, time_factor=1.0, cost_unit=COST_UNIT,
+                           state_units=model.STATE_UNITS, names=model.STATES)
     # A diverged iterate (e.g. SQP leaving the atmosphere) may overflow exp(-beta R xi).
     with np.errstate(over="ignore", invalid="ignore"):
         heating = model.heating_rate(X)

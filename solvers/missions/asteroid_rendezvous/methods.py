@@ -14,7 +14,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ... import interval_error
 from ...dynamics.ephemeris import (
+    AU,
     DAY,
     ELEMENT_SETS,
     GM_SUN,
@@ -29,12 +31,14 @@ from ...dynamics.ephemeris import (
 from ...methods import HERMITE_SIMPSON
 from ...mission import SolveContext
 from ...ocp import OCPResult
+from ...optimality import too_few_nodes
 from ...problem import Method, Param
-from ...solution import Iterate, Quantity, Solution
+from ...solution import Iterate, Quantity, Series, Solution
 from ...transcription import direct_transcription
+from ...transcription.costates import rescale, rescale_hamiltonian
 from ...verify import repropagate
 from .guess import GUESS_OPTIONS, ImpulsiveTransfer, impulsive_guess, low_thrust_guess, same_guess
-from .model import G0, SI_UNITS, si_rhs, to_mjd, to_si
+from .model import ACC, G0, SI_UNITS, si_rhs, to_mjd, to_si
 from .problem import PAPER, ocp, parameter_vector
 
 if TYPE_CHECKING:
@@ -51,7 +55,7 @@ LOW_THRUST = HERMITE_SIMPSON.replace(
             "particle swarm's impulsive transfer, through a 30-segment pre-solve. IPOPT "
             "(default, adaptive barrier) or CasADi SQP (slow, often unconverged here: use a "
             "time limit).",
-    nodes=(10, 150, 300), nodes_label="segments",
+    nodes=(10, 150, 600), nodes_label="segments",
     params=(
         Param("presolve_segments", "pre-solve segments (0: none)", "", 30.0, 0.0, 100.0,
               5.0, group="Method", integer=True,
@@ -78,7 +82,7 @@ def solve_low_thrust(mission: Mission, values: dict[str, float], nodes: int, bac
     p = parameter_vector(values)
     problem = ocp()
     start = None
-    if warm is not None and warm.ok and warm.warm is not None and same_guess(warm.values,
+    if warm is not None and warm.converged and warm.warm is not None and same_guess(warm.values,
                                                                              values):
         start = warm.warm
     presolve = int(values.get("presolve_segments", 0))
@@ -91,17 +95,32 @@ def solve_low_thrust(mission: Mission, values: dict[str, float], nodes: int, bac
         start = low_thrust_guess(transfer, values, nodes)
     transcription = direct_transcription(LOW_THRUST.transcription, problem, nodes, backend)
     res = transcription.solve(p, start, ctx, dense_per_interval=DENSE_PER_SEGMENT)
+    if res.status != "optimal" and nodes < LOW_THRUST.nodes[1]:
+        res.message = too_few_nodes(LOW_THRUST, nodes, res.message)
     sol = mission.direct_solution(values, LOW_THRUST, nodes, backend, problem, res)
     record_low_thrust(sol, res)
     guess_quantities(sol, transfer)
     sol.message += (f"; guess: {GUESS_OPTIONS[int(values['guess_kind'])]} from "
                     f"{iso_from_mjd(transfer.launch_mjd)}, Δv {transfer.total_dv:.0f} m/s")
-    if res.status == "infeasible" and values["c3_max"] < 1e6:
+    if res.status != "optimal" and values["c3_max"] < 1e6:
         sol.message += (f"; with launch C3 <= {values['c3_max'] / 1e6:g} km²/s² the engine "
                         "must do the 7.8° plane change (about 4 km/s) itself")
     if res.status == "optimal":
-        sol.checker = lambda: check_low_thrust(values, res)
+        sol.checker = lambda: verify_low_thrust(sol, values, res)
     return sol
+
+
+def verify_low_thrust(sol: Solution, values: Mapping[str, float], res: OCPResult
+                      ) -> dict[str, float]:
+    """The deferred check: the re-propagated arrival miss and the local error of every
+    segment (position, m), integrated in the NLP's canonical model."""
+    miss = check_low_thrust(values, res)
+    p = parameter_vector(values)
+    errors = interval_error.local_errors(ocp().functions().f, p, res.t_nodes, res.X,
+                                         res.controls, np.array([1e-12] * 6 + [1e-12]))
+    interval_error.record(sol, interval_error.error_series(
+        res.t_nodes * TU, np.linalg.norm(errors[:, 0:3], axis=1) * AU, "error", "m"))
+    return miss
 
 
 def record_low_thrust(sol: Solution, res: OCPResult) -> None:
@@ -131,10 +150,33 @@ def record_low_thrust(sol: Solution, res: OCPResult) -> None:
                                     "nodes at zero or full thrust", ""),
         launch_c3=Quantity(float(vinf @ vinf) / 1e6, "launch C3", "km²/s²"),
     )
+    _si_costates(sol, m0, float(sol.values["thrust"] / m0 / ACC), res)
     slack = res.U[:, 3] - np.linalg.norm(res.U[:, 0:3], axis=1)
     sol.stats["max_mass_flow_slack_N"] = float(np.max(slack) * fmax)
     sol.message = (f"{res.message}; launch {iso_from_mjd(launch)}, arrival "
                    f"{iso_from_mjd(arrival)}, {burns} burn arcs")
+
+
+def _si_costates(sol: Solution, m0: float, accel: float, res: OCPResult) -> None:
+    """Costates, Hamiltonian and switching function from canonical to SI (cost: fuel in kg,
+    = m0 times the NLP's -m_f). With H = ... + lambda_v . a_F U/m - lambda_m k Gamma and
+    |U| <= Gamma, H is least for U = -Gamma lambda_v/|lambda_v| and Gamma = 1 where the
+    switching function S = a_F |lambda_v| / m + k lambda_m > 0 (burn), Gamma at its floor
+    where S < 0 (coast): S is reported in kg/s per unit throttle."""
+    est = sol.costates
+    if est is None:
+        return
+    scale = np.array([AU] * 3 + [VU] * 3 + [m0])
+    sol.costates = rescale(est, state_factor=scale, cost_factor=m0, time_factor=TU,
+                           cost_unit="kg", state_units=SI_UNITS)
+    sol.hamiltonian = rescale_hamiltonian(sol.hamiltonian, cost_factor=m0, time_factor=TU,
+                                          cost_unit="kg")
+    lam = np.asarray(est.values)
+    m = np.interp(est.t, res.t_nodes, res.X[:, 6])
+    flow = parameter_vector(sol.values)[1]
+    S = accel * np.linalg.norm(lam[:, 3:6], axis=1) / m + flow * lam[:, 6]
+    sol.switching = Series(np.asarray(est.t) * TU, (S * m0 / TU)[:, None], ("S",),
+                           ("kg/s",))
 
 
 def guess_quantities(sol: Solution, transfer: ImpulsiveTransfer) -> None:

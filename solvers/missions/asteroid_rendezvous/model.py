@@ -84,10 +84,18 @@ def kepler_state(p: ca.SX, t: ca.SX) -> ca.SX:
     return ca.vertcat(xp * P + yp * Q, vxp * P + vyp * Q)
 
 
+# Earth's ephemeris samples for the spline: every 6 h. Daily samples left 58 m and 1.5e-4 m/s
+# of interpolation error between them, which 400 days of flight turn into a 2-5 km arrival
+# miss on re-propagation from the true ephemeris (the floor mesh refinement could not pass);
+# at 6 h it is 0.2 m and 6e-7 m/s.
+EARTH_SAMPLE_DAYS = 0.25
+
+
 @built_once
 def earth_spline() -> ca.Function:
-    """CasADi B-spline of Earth's canonical state over the launch-date range (daily epv00)."""
-    mjd = np.arange(EPHEMERIS_FIRST - 3, EPHEMERIS_LAST + 4, 1.0)
+    """CasADi B-spline of Earth's canonical state over the launch-date range (epv00 every
+    `EARTH_SAMPLE_DAYS`)."""
+    mjd = np.arange(EPHEMERIS_FIRST - 3, EPHEMERIS_LAST + 4, EARTH_SAMPLE_DAYS)
     r, v = earth_state(mjd)
     values = np.concatenate([r / AU, v / VU], axis=1)
     return ca.interpolant("earth", "bspline", [to_tu(mjd)], values.ravel(order="C"))

@@ -15,9 +15,10 @@ from ...methods import HERMITE_SIMPSON, MULTIPLE_SHOOTING
 from ...mission import Mission, SolveContext
 from ...ocp import OCP, OCPResult
 from ...problem import Method
-from ...solution import Solution
+from ...solution import Series, Solution
 from . import problem, view
 from .methods import PAPER_METHOD, solve_paper
+from .primer import switching
 
 
 class CWRendezvous(Mission):
@@ -52,6 +53,9 @@ class CWRendezvous(Mission):
     def parameter_vector(self, values: dict[str, float]) -> np.ndarray:
         return problem.parameter_vector(values)
 
+    def precheck(self, values: dict[str, float], p: np.ndarray) -> None:
+        problem.precheck(p)
+
     def ocp(self, method: Method, values: dict[str, float]) -> OCP:
         return problem.free_ocp()
 
@@ -64,6 +68,20 @@ class CWRendezvous(Mission):
         sol.quantities = problem.quantities(res.cost, accel, sol.arcs)
         sol.control_names, sol.control_units = problem.CONTROLS, problem.CONTROL_UNITS
         sol.node_u, sol.u = res.U[:, :3], res.U_dense[:, :3]
+        if sol.costates is not None:
+            sol.switching = Series(sol.costates.t, switching(
+                np.asarray(sol.costates.values), accel)[:, None], ("S",), ("",))
+
+    def indirect_reference(self, sol: Solution, p: np.ndarray) -> None:
+        """The primer-vector extremal (`primer.solve_primer`) started from the initial
+        costate that fits the estimate: its trajectory, costates and switching function,
+        burn time and the costate agreement."""
+        if sol.costates is not None:
+            problem.store_primer(sol, p)
+
+    def interval_error_norm(self, dx: np.ndarray) -> tuple[np.ndarray, str]:
+        """Local error in position (the headline: the arrival distance), m."""
+        return np.linalg.norm(dx[:, :3], axis=1), "m"
 
     def check_direct(self, _ocp: OCP, p: np.ndarray, res: OCPResult) -> dict[str, float]:
         """The method's control re-propagated in the CW model (the miss) and, beside it, in
@@ -72,7 +90,9 @@ class CWRendezvous(Mission):
 
     def _solve(self, values: dict[str, float], method: Method, nodes: int, backend: str,
                warm: Solution | None, ctx: SolveContext) -> Solution:
-        return solve_paper(values, problem.parameter_vector(values), nodes, backend, warm, ctx)
+        p = problem.parameter_vector(values)
+        problem.precheck(p)
+        return solve_paper(values, p, nodes, backend, warm, ctx)
 
     _present = staticmethod(view.present)
 

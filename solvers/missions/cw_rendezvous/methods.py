@@ -68,11 +68,11 @@ def solve_paper(values: dict[str, float], p: np.ndarray, k: int, backend: str,
     bc = burn_coast(layout.planar, layout.burns, k, backend)
     idx = layout.idx
     p_arc = np.concatenate([p[:6][idx], p[6:]])
-    start = warm.warm if warm is not None and warm.ok else None
+    start = warm.warm if warm is not None and warm.converged else None
     lam = None
     if _reuses(start, layout, k):
         z0, lam = start.z, (start.lam_x, start.lam_g)
-    elif warm is not None and warm.ok and _same_structure(warm, bc):
+    elif warm is not None and warm.converged and _same_structure(warm, bc):
         z0 = _resample_arcs(bc, warm, idx)
     else:
         z0 = _impulsive_guess(bc, p, idx)
@@ -103,9 +103,11 @@ def solve_paper(values: dict[str, float], p: np.ndarray, k: int, backend: str,
                                "backend": backend})
     sol.check["max_defect"] = res.max_violation
     breaks = np.unique(np.concatenate([t_nodes, np.cumsum(res.durations)]))
+    # Arc durations may come out a round-off below zero: keep the sample times monotone.
+    t_mono = np.maximum.accumulate(t_dense)
     sol.checker = lambda: check(
         p, np.concatenate([[0.0], breaks[breaks > 0]]),
-        lambda t, x: np.array([np.interp(t, t_dense, U_dense[:, j]) for j in range(3)]),
+        lambda t, x: np.array([np.interp(t, t_mono, U_dense[:, j]) for j in range(3)]),
     )
     return sol
 

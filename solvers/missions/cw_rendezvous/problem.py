@@ -18,10 +18,14 @@ from ...dynamics.clohessy_wiltshire import (
     mean_motion,
     nonlinear_relative_miss,
 )
+from ...mission import Infeasible
 from ...ocp import OCP, Bounds, Guess
+from ...optimality import PMP_COSTATES, PMP_TRAJECTORY, record_costate_error
 from ...problem import Consistency, Param, Preset, Published
-from ...solution import Quantity
+from ...solution import Quantity, Series, Solution
+from ...transcription.costates import costate_units
 from ...verify import repropagate
+from .primer import fit_initial_costate, min_acceleration, solve_primer, switching
 
 PAPER = "Finite-thrust rendezvous by direct collocation (paper 000)"
 # Parameter vector: initial relative state (6), CW rate w, thrust acceleration a, total time T.
@@ -140,15 +144,27 @@ def free_ocp() -> OCP:
     )
 
 
+def precheck(p: np.ndarray) -> None:
+    """Refuse a thrust acceleration below the least that can reach the target in the total
+    time (the primer-vector bound, `primer.min_acceleration`): a proof, not a guess."""
+    a_min = min_acceleration(tuple(p[:6]), float(p[P_W]), float(p[P_T]))
+    if p[P_A] < a_min * (1 - 1e-6):
+        raise Infeasible(
+            f"no trajectory reaches the target in {p[P_T]:g} s with a = {p[P_A]:g} m/s²: "
+            f"the least thrust acceleration that can is {a_min:.4g} m/s² (primer-vector "
+            "bound on the reachable set): increase the thrust acceleration or the total time")
+
+
 def explain(status: str, message: str, values: dict[str, float], structure: str) -> str:
-    """Say in words why an infeasible request has no solution."""
-    if status != "infeasible":
+    """Say in words why a request above the acceleration bound still has no answer."""
+    if status == "optimal":
         return message
-    return (
-        f"no {structure} trajectory reaches the target in {values['total_time']:g} s with "
-        f"a = {values['accel']:g} m/s²: increase the thrust acceleration or the total time "
-        f"({message})"
-    )
+    a_min = min_acceleration(tuple(parameter_vector(values)[:6]),
+                             mean_motion(values["altitude"]), values["total_time"])
+    return (f"no {structure} trajectory found ({message}); the least thrust acceleration "
+            f"that can reach the target in {values['total_time']:g} s is {a_min:.4g} m/s², "
+            f"a = {values['accel']:g} m/s² is above it, so the request is possible: a "
+            "structure with more burns, or another guess, may solve it")
 
 
 def arcs_from_throttle(t: np.ndarray, burning: np.ndarray) -> list[tuple[float, float, str]]:
@@ -194,3 +210,24 @@ def check(p: np.ndarray, breaks: np.ndarray,
     out["nonlinear_position_m"] = float(np.linalg.norm(nl[:3]))
     out["nonlinear_velocity_m_s"] = float(np.linalg.norm(nl[3:]))
     return out
+
+
+def store_primer(sol: Solution, p: np.ndarray) -> None:
+    """Shoot the primer-vector extremal from the costate estimate and store it (SI): the
+    trajectory with the switching function, the costates, its burn time and the costate
+    agreement; say so when the shooting does not converge."""
+    est = sol.costates
+    lam0 = fit_initial_costate(est.t, np.asarray(est.values), p[P_W])
+    ext = solve_primer(p[:6], p[P_W], p[P_A], p[P_T], lam0)
+    if not ext.converged:
+        sol.message += (f" (the primer-vector shooting did not converge from the costate "
+                        f"estimate: miss {ext.residual:.2g} m)")
+        return
+    S = switching(ext.lam, p[P_A])
+    sol.references[PMP_TRAJECTORY] = Series(ext.t, np.column_stack([ext.x, S]),
+                                            (*STATES, "S"), (*STATE_UNITS, ""))
+    sol.references[PMP_COSTATES] = Series(ext.t, ext.lam, STATES,
+                                          costate_units("s", STATE_UNITS))
+    sol.quantities["burn_time_pontryagin"] = Quantity(ext.burn_time,
+                                                      "burn time (primer vector)", "s")
+    record_costate_error(sol)

@@ -123,7 +123,7 @@ def _solve_nlp(case: Case, values: dict[str, float], N: int, backend: str,
     scale = max(float(np.max(np.abs(b))), 1.0)
     nlp = lgl_nlp(N, backend)
     params = np.concatenate([[case.orbit.e, case.f0, case.fT], b / scale])
-    start = warm.warm if warm is not None and warm.ok else None
+    start = warm.warm if warm is not None and warm.converged else None
     lam_x0 = lam_g0 = None
     if (start is not None and start.kind == NLP_KIND and start.n_intervals == N
             and len(start.z) == nlp.n_x):
@@ -180,7 +180,8 @@ def check(sol: Solution, case: Case, res: LawResult) -> dict[str, float]:
         "nonlinear_position_m": float(np.linalg.norm(miss_nl[:3])),
         "nonlinear_velocity_m_s": float(np.linalg.norm(miss_nl[3:])),
         "J_gramian_m2_s3": J_gram,
-        "J_relative_difference": (res.J - J_gram) / J_gram,
+        # J - J_gram relative to J_gram (absolute when the transfer needs no control).
+        "J_relative_difference": (res.J - J_gram) / J_gram if J_gram > 0 else res.J,
     }
     sol.quantities.update(
         linear_miss_position=Quantity(out["position_m"], "linear-model miss", "m"),

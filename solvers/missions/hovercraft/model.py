@@ -67,6 +67,11 @@ class SteeringSolution:
         w = np.outer(np.atleast_1d(t), self.lam) - self.c
         return w / np.linalg.norm(w, axis=1, keepdims=True)
 
+    def costates(self, t: np.ndarray) -> np.ndarray:
+        """(p_x, p_y, p_vx, p_vy) at times t: p_r = lam, p_v = c - lam t (s per unit)."""
+        t = np.atleast_1d(np.asarray(t, float))
+        return np.column_stack([np.tile(self.lam, (len(t), 1)), self.c - np.outer(t, self.lam)])
+
     def alpha(self, t: np.ndarray) -> np.ndarray:
         d = self.direction(t)
         return np.arctan2(d[:, 1], d[:, 0])

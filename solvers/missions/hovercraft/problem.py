@@ -10,6 +10,7 @@ import numpy as np
 
 from ...mission import Infeasible
 from ...ocp import OCP, Bounds, Guess
+from ...optimality import PMP_TRAJECTORY
 from ...problem import Consistency, Param, Preset, Published
 from .model import STATE_UNITS, STATES, T_LB, T_UB, X_LB, X_UB, rhs_angle, rhs_vector
 
@@ -23,7 +24,7 @@ STEERING = ("angle α, started from the thrust vector", "angle α only (paper)",
             "thrust vector |u| ≤ 1")
 ANGLE_VIA_VECTOR, ANGLE_ONLY, VECTOR = range(3)
 # The key of the maximum-principle extremal in `Solution.references`.
-REFERENCE = "maximum principle"
+REFERENCE = PMP_TRAJECTORY
 
 PARAMS = (
     Param("accel", "thrust acceleration A/m", "m/s²", 3.0, 0.5, 10.0, 0.1, group="Vehicle",

@@ -13,11 +13,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from ... import interval_error
 from ...mission import SolveContext
 from ...ocp import OCPResult
+from ...optimality import PMP_COSTATES, record_costate_error, too_few_nodes
 from ...problem import Method
 from ...solution import Iterate, Quantity, Series, Solution, WarmStart
 from ...transcription import direct_transcription
+from ...transcription.costates import costate_units
 from ...verify import repropagate
 from . import problem
 from .model import STATE_UNITS, STATES, X_LB, X_UB, guess_from_steering, solve_min_time
@@ -59,7 +62,7 @@ def solve_two_stage(values: dict[str, float], method: Method, nodes: int, backen
         # loss to polish away, and the angle form's end-node controls admit spurious KKT
         # points (one node jumps to ±π at N = 40).
         mode = VECTOR
-    prev = warm.warm if warm is not None and warm.ok and warm.warm is not None else None
+    prev = warm.warm if warm is not None and warm.converged and warm.warm is not None else None
     stages: list[OCPResult] = []
     if mode == VECTOR:
         start = _as_vector(prev) if prev is not None and prev.U.shape[1] == 1 else prev
@@ -84,6 +87,8 @@ def solve_two_stage(values: dict[str, float], method: Method, nodes: int, backen
         res.message += (" (the angle form, always at full thrust, did not converge from the "
                         "thrust-vector solution, whose thrust falls to "
                         f"|u| = {throttle:.2f}: showing the thrust-vector solution)")
+    if res.status != "optimal" and nodes < method.nodes[1]:
+        res.message = too_few_nodes(method, nodes, res.message)
     return _record(values, method.key, nodes, backend, p, stages=stages, res=res)
 
 
@@ -126,16 +131,29 @@ def _record(values: dict[str, float], method: str, nodes: int, backend: str, p: 
     sol.stats.update(iterations=sum(s.iterations for s in stages), stages=len(stages))
     if res.status == "optimal":
         _add_reference(sol, p)
-        sol.checker = lambda: check(p, res, vector)
+        sol.checker = lambda: check(sol, p, res, vector)
     return sol
 
 
+def _costate_guess(sol: Solution, p: np.ndarray) -> np.ndarray:
+    """The shooting unknowns (lam, c, T) from the estimated costates (p_r = lam constant,
+    p_v(0) = c), or fitted to the steering when the method gave none."""
+    if sol.costates is None:
+        return guess_from_steering(sol.node_t, sol.node_u[:, 0], p[P_X0], p[P_A])
+    lam = np.asarray(sol.costates.values)
+    return np.concatenate([lam[:, :2].mean(axis=0), lam[0, 2:] + lam[0, :2] * sol.costates.t[0],
+                           [sol.cost.value]])
+
+
 def _add_reference(sol: Solution, p: np.ndarray) -> None:
-    """The maximum-principle extremal started from this solution's steering: T_pontryagin,
-    T_error and the reference states and angle, unless the extremal leaves the state box
-    (a bound is active at the optimum, so it is no reference for the bounded problem)."""
-    ext = solve_min_time(p[P_X0], p[P_XF], p[P_A],
-                         guess_from_steering(sol.node_t, sol.node_u[:, 0], p[P_X0], p[P_A]))
+    """The maximum-principle extremal started from this solution's costate estimate:
+    T_pontryagin, T_error, the reference states and angle and its costates, and their
+    agreement with the estimate; unless the extremal leaves the state box (a bound is active
+    at the optimum, so it is no reference for the bounded problem)."""
+    ext = solve_min_time(p[P_X0], p[P_XF], p[P_A], _costate_guess(sol, p))
+    if not ext.converged:
+        ext = solve_min_time(p[P_X0], p[P_XF], p[P_A], guess_from_steering(
+            sol.node_t, sol.node_u[:, 0], p[P_X0], p[P_A]))
     if not ext.converged:
         return
     t = np.linspace(0.0, ext.T, REFERENCE_SAMPLES)
@@ -150,11 +168,17 @@ def _add_reference(sol: Solution, p: np.ndarray) -> None:
     sol.references[REFERENCE] = Series(
         t, np.column_stack([X, np.unwrap(ext.alpha(t))]), (*STATES, "alpha"),
         (*STATE_UNITS, "rad"))
+    sol.references[PMP_COSTATES] = Series(t, ext.costates(t), STATES,
+                                          costate_units("s", STATE_UNITS))
+    record_costate_error(sol)
 
 
-def check(p: np.ndarray, res: OCPResult, vector: bool) -> dict[str, float]:
+def check(sol: Solution, p: np.ndarray, res: OCPResult, vector: bool) -> dict[str, float]:
     """Re-propagate the method's own control (in the form it was solved in) with DOP853 and
-    report the terminal miss."""
+    report the terminal miss; the local error of every interval (position, m)."""
     fn = problem.ocp(vector).functions()
     _, X = repropagate(fn.f, p, p[P_X0], res.control, res.t_nodes, atol=1e-12)
+    errors = interval_error.local_errors(fn.f, p, res.t_nodes, res.X, res.controls, 1e-12)
+    interval_error.record(sol, interval_error.error_series(
+        res.t_nodes, np.hypot(errors[:, 0], errors[:, 1]), "error", "m"))
     return problem.end_miss(p, X[-1])

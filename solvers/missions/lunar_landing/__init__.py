@@ -16,6 +16,7 @@ from ...problem import Method
 from ...solution import Solution
 from . import problem, view
 from .methods import PAPER_METHOD, landing_quantities, solve_paper
+from .pmp import reference_extremal
 
 
 class LunarLanding(Mission):
@@ -51,6 +52,16 @@ class LunarLanding(Mission):
 
     def terminal_miss(self, p: np.ndarray, x_final: np.ndarray) -> dict[str, float]:
         return problem.touchdown_miss(x_final)
+
+    def indirect_reference(self, sol: Solution, p: np.ndarray) -> None:
+        """Paper 002's Pontryagin reference (`pmp.solve_extremal`) started from the costate
+        estimate (or from the last extremal of the same request when the method has no
+        costates): the extremal, its tf and the costate agreement."""
+        reference_extremal(sol, p)
+
+    def interval_error_norm(self, dx: np.ndarray) -> tuple[np.ndarray, str]:
+        """Local error in radius (the headline: the touchdown altitude), m."""
+        return np.abs(dx[:, 0]), "m"
 
     def check_atol(self, ocp: OCP) -> np.ndarray:
         return np.array([1e-6, 1e-9, 1e-12, 1e-14, 1e-9])

@@ -1,0 +1,89 @@
+"""Local error on the path: every interval integrated on its own from its node state with
+the method's own control, against the next node state.
+
+For interval k, y_k(t_k+1) is the solution of x' = f(x, u(t), p) from x(t_k) = X_k, with u
+exactly as the method defines it between nodes, by DOP853 (rtol 1e-10), and the local error
+is e_k = y_k(t_k+1) - X_k+1: the collocation defect (or shooting error) that the NLP's own
+equations cannot see. Unlike the terminal miss it says where the mesh is too coarse. All
+intervals are integrated at once as one stacked system on s in [0, 1] (t = t_k + s h_k), so
+the cost is one integration, not one per interval.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import TYPE_CHECKING
+
+import casadi as ca
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from .solution import Series, Solution
+from .verify import RTOL
+
+if TYPE_CHECKING:
+    from .mission import Mission
+    from .ocp import OCP, OCPResult
+
+# Control of all intervals at once: times (K,) -> controls (K, nu).
+Controls = Callable[[np.ndarray], np.ndarray]
+
+
+def local_errors(f: ca.Function, p: np.ndarray, t_nodes: np.ndarray, X: np.ndarray,
+                 controls: Controls, atol: np.ndarray) -> np.ndarray:
+    """(K, nx) errors e_k of the K = len(t_nodes) - 1 intervals (the states' units)."""
+    K, nx = len(t_nodes) - 1, X.shape[1]
+    t0, h = t_nodes[:-1], np.diff(t_nodes)
+    fmap = f.map(K)
+    P = np.tile(np.asarray(p, float)[:, None], (1, K))
+
+    def rhs(s: float, y: np.ndarray) -> np.ndarray:
+        U = controls(t0 + s * h)
+        dx = np.asarray(fmap(y.reshape(K, nx).T, U.T, P)).T
+        return (dx * h[:, None]).ravel()
+
+    sol = solve_ivp(rhs, (0.0, 1.0), X[:-1].ravel(), method="DOP853", rtol=RTOL,
+                    atol=np.tile(np.asarray(atol, float) * np.ones(nx), K), t_eval=[1.0])
+    if not sol.success:
+        raise RuntimeError(f"interval integration failed: {sol.message}")
+    return sol.y[:, -1].reshape(K, nx) - X[1:]
+
+
+def error_series(t_nodes: np.ndarray, norms: np.ndarray, name: str, unit: str) -> Series:
+    """Interval errors at the interval midpoints."""
+    mid = (t_nodes[:-1] + t_nodes[1:]) / 2
+    return Series(mid, np.asarray(norms, float)[:, None], (name,), (unit,))
+
+
+def record(sol: Solution, series: Series) -> None:
+    """Store the interval errors and name the worst interval in the statistics."""
+    sol.interval_error = series
+    values = np.asarray(series.values)[:, 0]
+    k = int(np.argmax(values))
+    sol.stats["worst_interval"] = float(k)
+    sol.stats["worst_interval_t"] = float(series.t[k])
+    sol.stats["worst_interval_error"] = float(values[k])
+
+
+def checked(mission: Mission, sol: Solution, problem: OCP, p: np.ndarray, res: OCPResult
+            ) -> dict[str, float]:
+    """The deferred check of a general method: the re-propagated miss
+    (`Mission.check_direct`), the local error of every interval in the headline's unit
+    (`Mission.interval_error_norm`) and the indirect reference
+    (`Mission.indirect_reference`)."""
+    miss = mission.check_direct(problem, p, res)
+    errors = local_errors(problem.functions().f, p, res.t_nodes, res.X, res.controls,
+                          mission.check_atol(problem))
+    norm = mission.interval_error_norm(errors)
+    if norm is not None:
+        record(sol, error_series(sol.node_t, norm[0], "error", norm[1]))
+    mission.indirect_reference(sol, p)
+    return miss
+
+
+def record_defects(mission: Mission, sol: Solution, t: np.ndarray, rows: np.ndarray) -> None:
+    """A failed answer's dynamics constraints as `interval_error` ("defect"): where it
+    fails, in the headline miss's unit; t in the OCP's time unit."""
+    norm = mission.interval_error_norm(rows)
+    if norm is not None:
+        record(sol, Series(t, norm[0][:, None], ("defect",), (norm[1],)))
