@@ -29,6 +29,13 @@ from bench_missions import LIVE_PARAMETER  # noqa: E402
 SMALL = ("lunar-landing", "cw-rendezvous", "elliptic-transfer", "hovercraft", "apollo-reentry")
 
 
+def peak_mb() -> float:
+    """This process's peak resident memory."""
+    import resource
+
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+
+
 def resident_mb(pid: int | str = "self") -> float:
     try:
         with open(f"/proc/{pid}/statm") as f:
@@ -70,11 +77,12 @@ def make_view(server, missions, mission, runner, index: int):
                 scene_root=f"/session{index}")
 
 
-def drive(view, clock: Clock, key: str, moves: int, period: float, offset: float,
-          stop: threading.Event) -> None:
-    """Move `key` up by 1 % and back every `period` s, starting `offset` s in."""
+def drive(view, clock: Clock, key: str | None, moves: int, period: float, offset: float,
+          stop: threading.Event, rng: random.Random) -> None:
+    """Every `period` s from `offset` s in: move `key` up by 1 % and back, or (`key` None)
+    pick a new node count in the method's range (every count a new NLP to build)."""
     session = view.session
-    base = session.values[key]
+    base = session.values[key] if key else 0.0
     t0 = time.perf_counter() + offset
     for k in range(moves):
         wait = t0 + k * period - time.perf_counter()
@@ -82,7 +90,11 @@ def drive(view, clock: Clock, key: str, moves: int, period: float, offset: float
             return
         clock.done.clear()
         clock.move_started = time.perf_counter()
-        session.set_value(key, base * (1.01 if k % 2 == 0 else 1.0))
+        if key is None:
+            lo, _, hi = session.mission.method(session.method).nodes
+            session.set_nodes(rng.randint(lo, min(hi, 4 * session.nodes)))
+        else:
+            session.set_value(key, base * (1.01 if k % 2 == 0 else 1.0))
 
 
 def hammer(view, clock: Clock, stop: threading.Event) -> None:
@@ -106,6 +118,8 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--period", type=float, default=3.0)
     parser.add_argument("--workers", type=int, default=None)
     parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--node-moves", action="store_true",
+                        help="move node counts (a new NLP each) instead of a parameter")
     args = parser.parse_args(argv)
 
     import viser
@@ -119,7 +133,7 @@ def main(argv: list[str] | None = None) -> None:
         from solvers.service import SolveService
 
         service = SolveService(args.workers, first_mission=SMALL[0])
-        service.wait_ready()
+        service.wait_prebuilt()
         runner = ServiceRunner(service)
     except ImportError:
         pass
@@ -149,8 +163,9 @@ def main(argv: list[str] | None = None) -> None:
             target, fn_args = hammer, (view, clock, stop)
         else:
             target = drive
-            fn_args = (view, clock, LIVE_PARAMETER[key], moves, args.period,
-                       rng.uniform(0.0, args.period), stop)
+            fn_args = (view, clock, None if args.node_moves else LIVE_PARAMETER[key], moves,
+                       args.period, rng.uniform(0.0, args.period), stop,
+                       random.Random(rng.random()))
         threads.append(threading.Thread(target=target, args=fn_args, daemon=True))
     for t in threads:
         t.start()
@@ -173,7 +188,7 @@ def main(argv: list[str] | None = None) -> None:
     p95 = small[min(len(small) - 1, int(0.95 * len(small)))]
     print(f"{'small missions':22s} {len(small):5d} {1e3 * statistics.median(small):8.0f} "
           f"{1e3 * p95:8.0f} {1e3 * small[-1]:8.0f}")
-    memory = f"server {resident_mb():.0f} MB"
+    memory = f"server {resident_mb():.0f} MB (peak {peak_mb():.0f})"
     if service is not None:
         workers = [resident_mb(pid) for pid in service.pids()]
         memory += (f", workers {' + '.join(f'{w:.0f}' for w in workers)} MB, total "

@@ -38,13 +38,17 @@ def main(argv: list[str] | None = None) -> None:
 
     import viser
 
-    from explorer.app import View
     from explorer.capture import free_port
+    from explorer.runners import ServiceRunner
+    from explorer.view import View
     from solvers import get_mission, list_missions
+    from solvers.service import SolveService
 
     mission = get_mission(args.mission)
+    service = SolveService(1, prebuild=False)
     server = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)
-    view = View(server.gui, server.scene, server.atomic, list_missions(), mission, args.method)
+    view = View(server.gui, server.scene, server.atomic, list_missions(), mission, args.method,
+                runner=ServiceRunner(service))
     session = view.session
     session.wait_idle(120.0)
     param = next(p for p in mission.all_params(session.method) if p.key == args.key)
@@ -61,11 +65,13 @@ def main(argv: list[str] | None = None) -> None:
         if k % args.every == 0:
             gc.collect()
             elapsed = (time.perf_counter() - t0) / max(k, 1)
+            worker = service.resident().get("worker 0", 0.0)
             print(f"{k:6d} {rss_mb():8.1f} {view.scene.node_count:11d} "
                   f"{len(buffer.message_from_id):11d} {1e3 * elapsed:8.0f} "
-                  f"{session.latest.status:>8}", flush=True)
+                  f"{session.latest.status:>8}  worker {worker:.0f} MB", flush=True)
     view.close()
     server.stop()
+    service.close()
 
 
 if __name__ == "__main__":

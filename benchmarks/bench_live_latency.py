@@ -3,7 +3,8 @@ optimum is drawn (trajectory, nodes, arrows and plots sent), per mission and met
 
     python benchmarks/bench_live_latency.py [--mission KEY ...] [--moves 20]
 
-Builds a real `View` on a viser server (server-side GUI and scene, no browser), moves each
+Builds a real `View` on a viser server (server-side GUI and scene, no browser), solving on
+the solve service's worker processes (in-process on the code before the service), moves each
 mission's live parameter by ±1 % `--moves` times, and measures from `set_value` until the
 view has drawn the new solution (the deferred re-propagation check runs after that and is
 not counted). "Live" for the small missions means under 100 ms.
@@ -21,10 +22,19 @@ sys.path.insert(0, str(Path(__file__).parent))
 from bench_missions import LIVE_PARAMETER  # noqa: E402
 
 
-def measure(server, missions, mission, method: str, moves: int) -> list[float]:
-    from explorer.app import View
+def make_view(server, missions, mission, method: str, runner):
+    """A view on the server's GUI and scene, solving on the service when there is one."""
+    try:
+        from explorer.view import View
+    except ImportError:  # the code before the solve service: solves in this process
+        from explorer.app import View
+        return View(server.gui, server.scene, server.atomic, missions, mission, method)
+    return View(server.gui, server.scene, server.atomic, missions, mission, method,
+                runner=runner)
 
-    view = View(server.gui, server.scene, server.atomic, missions, mission, method)
+
+def measure(server, missions, mission, method: str, moves: int, runner) -> list[float]:
+    view = make_view(server, missions, mission, method, runner)
     session = view.session
     try:
         session.wait_idle(300.0)
@@ -60,18 +70,31 @@ def main(argv: list[str] | None = None) -> None:
 
     missions = list_missions()
     chosen = [get_mission(k) for k in args.mission] if args.mission else missions
+    runner, service = None, None
+    try:
+        from explorer.runners import ServiceRunner
+        from solvers.service import SolveService
+
+        service = SolveService(prebuild=False)
+        service.wait_ready()
+        runner = ServiceRunner(service)
+    except ImportError:
+        pass
     server = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)
     print(f"{'mission':20s} {'method':18s} {'median ms':>9s} {'p90 ms':>7s} {'max ms':>7s}")
     try:
         for mission in chosen:
             for method in mission.methods:
-                times = sorted(measure(server, missions, mission, method.key, args.moves))
+                times = sorted(measure(server, missions, mission, method.key, args.moves,
+                                       runner))
                 p90 = times[int(0.9 * (len(times) - 1))]
                 print(f"{mission.key:20s} {method.key:18s} "
                       f"{1e3 * statistics.median(times):9.1f} {1e3 * p90:7.1f} "
                       f"{1e3 * times[-1]:7.1f}", flush=True)
     finally:
         server.stop()
+        if service is not None:
+            service.close()
 
 
 if __name__ == "__main__":

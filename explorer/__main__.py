@@ -26,6 +26,9 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--time-limit", type=float, default=DEFAULT_TIME_LIMIT,
                         help=f"seconds before a solve is stopped (default {DEFAULT_TIME_LIMIT:g}; "
                              "0: no limit; also settable in the GUI)")
+    parser.add_argument("--mission-file", action="append", default=[], metavar="F",
+                        help="a mission file of your own (a folder: its *.py files); "
+                             "repeatable; saving it reloads it in the running explorer")
     parser.add_argument("--workers", type=int,
                         help="solve processes (default: one per core); every solve runs in one")
     args = parser.parse_args(argv)
@@ -36,7 +39,7 @@ def main(argv: list[str] | None = None) -> None:
     try:
         app = ExplorerApp(args.host, args.port, args.mission, args.method, args.nodes,
                           shared=args.shared, time_limit=args.time_limit or None,
-                          workers=args.workers)
+                          workers=args.workers, mission_files=tuple(args.mission_file))
     except ValueError as exc:
         parser.error(str(exc))
     mode = "one shared session" if args.shared else "one session per tab"

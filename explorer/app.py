@@ -5,12 +5,15 @@ all of them), every solve on the solve service's worker processes."""
 from __future__ import annotations
 
 import threading
+from pathlib import Path
 
 import viser
 
 from solvers import list_missions
+from solvers.mission import Mission
 from solvers.service import SolveService
 
+from .reload import MissionFiles
 from .runners import Runner, ServiceRunner
 from .session import DEFAULT_TIME_LIMIT
 from .view import View, apply_theme
@@ -24,9 +27,13 @@ class ExplorerApp:
                  verbose: bool = False, shared: bool = False,
                  time_limit: float | None = DEFAULT_TIME_LIMIT,
                  runner: Runner | None = None, workers: int | None = None,
-                 prebuild: bool = True) -> None:
+                 prebuild: bool = True, mission_files: tuple[str, ...] = ()) -> None:
         """`workers` solve processes (default one per core) run every solve, unless a
-        `runner` is given (tests of missions that live only in the test)."""
+        `runner` is given (tests of missions that live only in the test). `mission_files`
+        (files or folders) add users' missions, reloaded when saved."""
+        self.views: dict[int, View] = {}
+        self._lock = threading.Condition()
+        self.files = MissionFiles(mission_files, self._reloaded, self._file_error)
         self.missions = list_missions()
         by_key = {m.key: m for m in self.missions}
         if mission is not None and mission not in by_key:
@@ -38,12 +45,11 @@ class ExplorerApp:
         self.service: SolveService | None = None
         if runner is None:
             self.service = SolveService(workers, prebuild=prebuild,
-                                        first_mission=self.mission.key)
+                                        first_mission=self.mission.key,
+                                        mission_files=self.files.files)
             runner = ServiceRunner(self.service)
         self.runner = runner
         self.shared = shared
-        self.views: dict[int, View] = {}
-        self._lock = threading.Condition()
         self.server = viser.ViserServer(host=host, port=port, label="Trajectory explorer",
                                         verbose=verbose)
         apply_theme(self.server.gui, dark=True)
@@ -64,6 +70,8 @@ class ExplorerApp:
     def _connect(self, client: viser.ClientHandle) -> None:
         view = self.shared_view or self._view(client.gui, client.scene, client.atomic)
         view.attach(client)
+        for path, message in self.files.errors.items():
+            client.add_notification(f"mission file {Path(path).name}", message, color="red")
         with self._lock:
             self.views[client.client_id] = view
             self._lock.notify_all()
@@ -79,6 +87,30 @@ class ExplorerApp:
             if self.service is not None:
                 self.service.forget(view.session.id)
 
+    def _all_views(self) -> list[View]:
+        with self._lock:
+            views = set(self.views.values())
+        if getattr(self, "shared_view", None) is not None:
+            views.add(self.shared_view)
+        return list(views)
+
+    def _reloaded(self, mission: Mission, path: str) -> None:
+        """A mission file was saved and loads: workers and tabs take the new mission."""
+        keys = [m.key for m in self.missions]
+        if mission.key in keys:
+            self.missions[keys.index(mission.key)] = mission
+        else:
+            self.missions.append(mission)
+        if self.service is not None:
+            self.service.reload_mission_files(self.files.files)
+        for view in self._all_views():
+            view.mission_reloaded(mission, self.missions)
+
+    def _file_error(self, path: str, message: str) -> None:
+        """A mission file failed to load: every tab hears it; the old mission stays."""
+        for view in self._all_views():
+            view.refuse(f"mission file {Path(path).name} not loaded", message)
+
     def wait_for_view(self, timeout: float) -> View:
         """The first connected tab's view (waits for a browser to connect)."""
         with self._lock:
@@ -93,6 +125,7 @@ class ExplorerApp:
             views.add(self.shared_view)
         for view in views:
             view.close()
+        self.files.stop()
         self.server.stop()
         if self.service is not None:
             self.service.close()

@@ -65,7 +65,8 @@ def fit_camera(g: Geometry, aspect: float = 1.0, bottom: float = 0.0,
     'Up' is `_view_up`, made perpendicular to the line of sight."""
     up = _view_up(g)
     pts = g.points if len(g.points) else g.center[None]
-    framed = np.concatenate([pts, g.arrows.reshape(-1, 3)] + [m[1][None] for m in g.markers])
+    framed = np.concatenate([pts, g.arrows.reshape(-1, 3), np.stack(scale_bar(g)[:2])]
+                            + [m[1][None] for m in g.markers])
     axes = _plane_axes(pts)
     along, normal = axes[0], axes[-1]
     bottom = min(max(bottom, 0.0), 0.45)
@@ -224,3 +225,11 @@ def scale_bar(g: Geometry) -> tuple[np.ndarray, np.ndarray, str]:
     height = float(np.max((pts - g.center) @ up)) + 0.12 * g.extent
     middle = g.center + height * up
     return middle - 0.5 * length * along, middle + 0.5 * length * along, f"{length:g} {g.unit}"
+
+
+def camera_wxyz(cam: Camera) -> np.ndarray:
+    """The orientation of `cam` in viser's camera convention (+z forward, +y down)."""
+    from .player import quaternion_from_axes
+
+    forward = np.asarray(cam.look_at, float) - np.asarray(cam.position, float)
+    return quaternion_from_axes(forward / np.linalg.norm(forward), -np.asarray(cam.up, float))

@@ -7,7 +7,17 @@ from __future__ import annotations
 import html
 from collections.abc import Sequence
 
-from .geometry import ARROW, BURN, COAST, NODE, WARNING, ColorBar, Geometry, colorbar_css
+from .geometry import (
+    ARROW,
+    BURN,
+    COAST,
+    NODE,
+    NODE_LIGHT,
+    WARNING,
+    ColorBar,
+    Geometry,
+    colorbar_css,
+)
 
 STYLE = ("<style>.lg{font-size:0.78em;line-height:1.5}.lg span.sw{display:inline-block;"
          "width:14px;height:4px;margin:0 4px 2px 0;vertical-align:middle;border-radius:1px}"
@@ -35,7 +45,8 @@ def _colorbar(bar: ColorBar) -> str:
 
 
 def legend_html(g: Geometry, dim: bool = False, failed: bool = False,
-                comparison: Sequence[tuple[str, tuple[int, int, int]]] | None = None) -> str:
+                comparison: Sequence[tuple[str, tuple[int, int, int]]] | None = None,
+                dark: bool = True) -> str:
     """The legend as HTML for the current drawing."""
     items: list[str] = []
     if comparison:
@@ -54,7 +65,7 @@ def legend_html(g: Geometry, dim: bool = False, failed: bool = False,
         if failed:
             items.append(_item(WARNING, "failed attempt"))
     if len(g.nodes) and not comparison:
-        items.append(_item(NODE, "nodes", dot=True))
+        items.append(_item(NODE if dark else NODE_LIGHT, "nodes", dot=True))
     if len(g.arrows) and not comparison:
         items.append(_item(ARROW, "thrust direction"))
     items += [_item(color, name, dashed=dashed) for name, color, dashed in g.curve_names]

@@ -14,6 +14,7 @@ evaluated.
 from __future__ import annotations
 
 import html
+import itertools
 import json
 from collections.abc import Callable
 from urllib.parse import parse_qsl, urlencode
@@ -25,7 +26,7 @@ from solvers.mission import Mission
 from .session import Session
 
 BOX_LABEL = "case from the link"
-_ERROR_IMAGE = "data:image/gif;base64,R0lGODlh"  # a broken image: onerror runs at once
+_ERROR_IMAGE = "data:,{nonce}"  # not an image: onerror runs at once, a new one each time
 
 
 def case_query(session: Session) -> str:
@@ -65,8 +66,12 @@ def parse_case(query: str, missions: dict[str, Mission]
             fields.get("backend"), values, view)
 
 
+_nonce = itertools.count()
+
+
 def _script(js: str) -> str:
-    return f'<img src="{_ERROR_IMAGE}" style="display:none" onerror="{html.escape(js)}">'
+    src = _ERROR_IMAGE.format(nonce=next(_nonce))
+    return f'<img src="{src}" style="display:none" onerror="{html.escape(js)}">'
 
 
 def address_html(query: str) -> str:

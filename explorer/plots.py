@@ -17,6 +17,7 @@ from solvers.presentation import GridMap, PlotSeries
 
 GROUP_COLORS = {"state": "#00c8ff", "control": "#ff8c00"}
 OTHER_COLOR = "#b0e060"
+MAX_NODE_MARKS = 80  # more node markers than this would hide the line they sit on
 MARKER_COLOR = {True: "#ffe14d", False: "#c06000"}  # time marker on dark / light
 
 Overlay = tuple[str, tuple[int, int, int], Sequence[PlotSeries]]  # name, colour, series
@@ -66,7 +67,7 @@ def make_figure(series: Sequence[PlotSeries], dim: bool = False, dark: bool = Tr
         color = "#777777" if dim else GROUP_COLORS.get(s.group, OTHER_COLOR)
         data.append(line(s, i, line={"color": color, "width": 2}, name=s.title,
                          showlegend=False, hoverinfo="x+y"))
-        if s.t_nodes is not None and s.y_nodes is not None:
+        if s.t_nodes is not None and s.y_nodes is not None and len(s.t_nodes) <= MAX_NODE_MARKS:
             data.append({"type": "scatter", "x": time_scale * np.asarray(s.t_nodes),
                          "y": np.asarray(s.y_nodes), "mode": "markers",
                          "xaxis": _axis("x", i), "yaxis": _axis("y", i),

@@ -21,7 +21,7 @@ from .camera import scale_bar
 from .geometry import ARROW, BACKGROUNDS, NODE, NODE_LIGHT, Geometry, line_colors
 from .player import Pose
 
-VEHICLE_FRACTION = 0.06  # vehicle length as a fraction of the trajectory extent
+VEHICLE_FRACTION = 0.035  # vehicle length as a fraction of the trajectory extent
 
 
 def asset_bytes(name: str) -> bytes | None:
@@ -62,6 +62,8 @@ class SceneView:
         self._vehicle_name: str | None = None
         self._vehicle_size = 1.0
         self._moving: list[tuple[viser.SceneNodeHandle, np.ndarray, np.ndarray]] = []
+        self._markers: list[tuple[Any, Any]] = []
+        self._marker_names: list[str] = []
         self.updates = 0  # in-place updates sent (a test counts them)
         scene.configure_environment_map(None)
         scene.configure_default_lights(cast_shadow=False)
@@ -78,7 +80,7 @@ class SceneView:
     def node_count(self) -> int:
         """Scene nodes this view holds (constant over re-solves: nothing accumulates)."""
         return (len(self._context) + len(self._solution) + len(self._layers)
-                + len(self._vehicle))
+                + len(self._vehicle) + 2 * len(self._markers))
 
     def draw(self, g: Geometry) -> None:
         """Show `g`: the context if it changed, then path, nodes and arrows in place."""
@@ -109,7 +111,7 @@ class SceneView:
                   thickness: float) -> None:
         handle = store.get(name)
         if not len(segments):
-            if handle is not None:
+            if handle is not None and handle.visible:
                 handle.visible = False
             return
         pts = np.asarray(segments, np.float32)
@@ -118,9 +120,11 @@ class SceneView:
             store[name] = self.scene.add_line_segments(name, pts, cols, thickness=thickness,
                                                        thickness_units="screen")
             return
-        handle.points, handle.colors = pts, cols
-        handle.visible = True
-        self.updates += 1
+        if not (np.array_equal(handle.points, pts) and np.array_equal(handle.colors, cols)):
+            handle.points, handle.colors = pts, cols
+            self.updates += 1
+        if not handle.visible:
+            handle.visible = True
 
     def _points(self, name: str, points: np.ndarray, size: float) -> None:
         handle = self._solution.get(name)
@@ -252,39 +256,57 @@ class SceneView:
 
     def clear(self) -> None:
         """Remove everything drawn (a mission change)."""
-        for handle in [*self._context, *self._solution.values(), *self._layers.values()]:
+        for handle in [*self._context, *self._solution.values(), *self._layers.values(),
+                       *(h for pair in self._markers for h in pair)]:
             handle.remove()
         self.remove_vehicle()
         self._context, self._solution, self._layers, self._context_key = [], {}, {}, None
-        self._moving = []
+        self._moving, self._markers, self._marker_names = [], [], []
 
     def _draw_context(self, g: Geometry) -> None:
+        """Bodies and reference curves, re-sent only when they changed; markers moved in
+        place (a landing site follows the path without re-sending the Moon)."""
         key = repr([(s.name, s.center.tolist(), s.radius, s.color, s.subdivisions)
-                    for s in g.spheres] + [(m[0], m[1].tolist()) for m in g.markers]).encode()
+                    for s in g.spheres]).encode()
         key += g.curve_segments.tobytes()
         key += b"".join(s.track.tobytes() for s in g.spheres if s.track is not None)
-        if key == self._context_key:
+        if key != self._context_key:
+            for handle in self._context:
+                handle.remove()
+            self._context, self._moving = [], []
+            add = self._context.append
+            for s in g.spheres:
+                add(self.scene.add_icosphere(f"{self.root}/bodies/{s.name}", s.radius, s.color,
+                                             subdivisions=s.subdivisions, position=s.center,
+                                             cast_shadow=False, receive_shadow=False))
+                if s.track is not None:
+                    self._moving.append((self._context[-1], g.times, s.track))
+            if len(g.curve_segments):
+                add(self.scene.add_line_segments(f"{self.root}/curves",
+                                                 g.curve_segments.astype(np.float32),
+                                                 line_colors(g.curve_colors),
+                                                 thickness=1.5, thickness_units="screen"))
+            self._context_key = key
+        self._draw_markers(g)
+
+    def _draw_markers(self, g: Geometry) -> None:
+        names = [m[0] for m in g.markers]
+        if names != self._marker_names:
+            for point, label in self._markers:
+                point.remove()
+                label.remove()
+            self._markers = []
+            for i, (name, position, color) in enumerate(g.markers):
+                self._markers.append((
+                    self.scene.add_point_cloud(f"{self.root}/markers/{i}",
+                                               position[None].astype(np.float32), color,
+                                               point_size=0.015 * g.extent,
+                                               point_shape="circle", precision="float32"),
+                    self.scene.add_label(f"{self.root}/labels/{i}", name, position=position,
+                                         font_screen_scale=0.8, anchor="bottom-left")))
+            self._marker_names = names
             return
-        for handle in self._context:
-            handle.remove()
-        self._context, self._moving = [], []
-        add = self._context.append
-        for s in g.spheres:
-            add(self.scene.add_icosphere(f"{self.root}/bodies/{s.name}", s.radius, s.color,
-                                         subdivisions=s.subdivisions, position=s.center,
-                                         cast_shadow=False, receive_shadow=False))
-            if s.track is not None:
-                self._moving.append((self._context[-1], g.times, s.track))
-        if len(g.curve_segments):
-            add(self.scene.add_line_segments(f"{self.root}/curves",
-                                             g.curve_segments.astype(np.float32),
-                                             line_colors(g.curve_colors),
-                                             thickness=1.5, thickness_units="screen"))
-        for i, (name, position, color) in enumerate(g.markers):
-            add(self.scene.add_point_cloud(f"{self.root}/markers/{i}",
-                                           position[None].astype(np.float32),
-                                           color, point_size=0.015 * g.extent,
-                                           point_shape="circle", precision="float32"))
-            add(self.scene.add_label(f"{self.root}/labels/{i}", name, position=position,
-                                     font_screen_scale=0.8, anchor="bottom-left"))
-        self._context_key = key
+        for (point, label), (_, position, _) in zip(self._markers, g.markers, strict=True):
+            point.points = position[None].astype(np.float32)
+            point.point_size = 0.015 * g.extent
+            label.position = tuple(position)

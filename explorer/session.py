@@ -170,6 +170,21 @@ class Session:
         self.view = self.mission.view_defaults() | {k: float(v) for k, v in preset.view.items()}
         self._changed(config=True, cold=preset.cold)
 
+    def reload_mission(self, mission: Mission) -> None:
+        """A new version of the mission on screen (a saved mission file): keep the method,
+        nodes, values and view options that still fit, then solve again (the last good
+        picture stays until the new answer is in)."""
+        method = self.method if any(m.key == self.method for m in mission.methods) else None
+        lo, _, hi = mission.method(method).nodes
+        nodes = self.nodes if method is not None and lo <= self.nodes <= hi else None
+        ranges = {p.key: p for p in mission.all_params(method)}
+        kept = {k: v for k, v in self.values.items()
+                if k in ranges and ranges[k].min <= v <= ranges[k].max}
+        self._configure(mission, method, nodes, kept)
+        view_defaults = mission.view_defaults()
+        self.view = view_defaults | {k: v for k, v in self.view.items() if k in view_defaults}
+        self._changed(config=True)
+
     def restore(self, mission: Mission, method: str | None, nodes: int | None,
                 values: Mapping[str, float], view: Mapping[str, float],
                 backend: str | None = None) -> None:

@@ -23,7 +23,7 @@ from solvers.solution import Solution
 
 from . import style
 from .about import about_html
-from .camera import Cameras, top_view
+from .camera import FOV, Cameras, camera_wxyz, fit_camera, top_view
 from .geometry import PALETTE, WARNING, Geometry, build_geometry, ghost_geometry, path_segments
 from .help import KeyHelp, Welcome
 from .legend import legend_html
@@ -45,6 +45,7 @@ PROGRESS_INTERVAL = 0.1  # s between "solving… iteration k" updates
 DIM_AFTER = 0.25  # s: a solve slower than this dims the old trajectory while it runs
 DRAG_PATIENCE = 0.5  # s: a newer slider value lets a younger running solve finish and show
 REPLAY_STEP_S = 0.45  # s per iterate in the iteration replay
+MARKER_S = 1.0  # s between the plots' time-marker updates while playing
 
 
 def apply_theme(gui: viser.GuiApi, dark: bool) -> None:
@@ -79,6 +80,7 @@ class View:
         self._framed: tuple[str, np.ndarray, np.ndarray, float] | None = None
         self._comparison: list[Solution] = []
         self._replay: threading.Thread | None = None
+        self._marker_at = 0.0
 
         style.install(gui)
         self.missions = {m.key: m for m in missions}
@@ -97,8 +99,9 @@ class View:
                                         lambda: self.clear_comparison(redraw=True))
         with tabs.add_tab("Export", viser.Icon.DOWNLOAD):
             self.export = ExportPanel(gui, self.current, self.session.time_limit,
-                                      lambda s: self.session.set_time_limit(s), self.set_dark)
-        self.side = SidePanel(gui)
+                                      lambda s: self.session.set_time_limit(s), self.set_dark,
+                                      self.shot_camera)
+        self.side = SidePanel(gui, self._redraw)
         self.cameras = Cameras(PLOT_PANEL[1] + PANEL_GAP)
         self._build_commands()
         self.scene = SceneView(scene, dark=self.dark, root=scene_root)
@@ -114,6 +117,16 @@ class View:
         reset = self.gui.add_command("Reset camera", hotkey="R", icon=viser.Icon.FOCUS_CENTERED)
         reset.on_trigger(lambda _: self.reset_camera())
         self.key_help = KeyHelp(self.gui)
+
+    def mission_reloaded(self, mission: Mission, missions: Sequence[Mission]) -> None:
+        """A mission file was reloaded: the mission list follows, and a tab showing that
+        mission takes the new one (same values where they still exist) and solves again."""
+        self.missions = {m.key: m for m in missions}
+        self.controls.missions = {m.title: m for m in missions}
+        if self.session.mission.key == mission.key:
+            self.session.reload_mission(mission)
+        else:
+            self.controls.rebuild()
 
     def restore_link(self, query: str) -> None:
         """The page was opened with a case in its address: set that case."""
@@ -267,7 +280,8 @@ class View:
             return
         pres = self.present(sol)
         geometry = build_geometry(pres, sol.t, sol.arcs, dim=dim)
-        figure = make_figure(pres.plots, dim=dim, dark=self.dark, time_unit=pres.time_unit,
+        plots = self.side.page_of(pres.plots)
+        figure = make_figure(plots, dim=dim, dark=self.dark, time_unit=pres.time_unit,
                              time_scale=pres.time_scale)
         with self._lock, self.atomic():
             self._shown = (sol, pres, dim)
@@ -275,15 +289,22 @@ class View:
             self._geometry = geometry
             if not dim:
                 self._new_track(sol, pres, geometry)
-            set_time_marker(figure, len(pres.plots),
+            set_time_marker(figure, len(plots),
                             self.play.t * pres.time_scale if self.track else None, self.dark)
-            self.side.show_figure(figure, len(pres.plots))
+            self.side.show_figure(figure, len(plots))
             self.side.show_map(pres.maps[0] if pres.maps else None, self.dark)
             self._draw_ghosts()
-        self.status.legend.content = legend_html(geometry, dim=dim, failed=self._failed)
+        self.status.legend.content = legend_html(geometry, dim=dim, failed=self._failed,
+                                                 dark=self.dark)
         if self._reframe(sol.mission, geometry):
             self.apply_camera()
         self.drawn += 1
+
+    def _redraw(self) -> None:
+        """Draw what is on screen again (another page of plots was chosen)."""
+        if self._shown is not None:
+            sol, _, dim = self._shown
+            self._draw(sol, dim)
 
     def _reframe(self, mission: str, g: Geometry) -> bool:
         """Whether the camera must frame the path again: a new mission, a path that left the
@@ -311,7 +332,7 @@ class View:
             self.scene.set_layer("failed", segments, colors, thickness=3.0)
         if self._geometry is not None:
             self.status.legend.content = legend_html(self._geometry, dim=self._failed,
-                                                     failed=self._failed)
+                                                     failed=self._failed, dark=self.dark)
 
     def _draw_ghosts(self) -> None:
         pres = self.presentation
@@ -407,11 +428,12 @@ class View:
         track = Track(sol, pres)
         self.play.set_track(track, pres.time_unit, pres.time_scale)
         self.scene.set_vehicle(pres.vehicle, geometry.extent)
-        self.show_time(self.play.t, slow=True)
+        self.show_time(self.play.t, slow=True, marker=False)  # the new figure has it
 
-    def show_time(self, t: float, slow: bool) -> None:
+    def show_time(self, t: float, slow: bool, marker: bool = True) -> None:
         """Move the vehicle (and a following camera) to time t; `slow` also updates the
-        read-outs and the plots' marker."""
+        read-outs and (at most once a second while playing, `marker`) the plots' time
+        marker: every figure sent is a whole plotly redraw in the page."""
         track, shown = self.play.track, self._shown
         if track is None or shown is None:
             return
@@ -425,6 +447,10 @@ class View:
         if not slow:
             return
         self.play.readout.content = readout_markdown(readouts(sol, pres, track, t), pres.frame)
+        now = time.monotonic()
+        if not marker or (self.play.playing and now - self._marker_at < MARKER_S):
+            return
+        self._marker_at = now
         with self._lock:
             if not self._comparison:
                 set_time_marker(self.side.figure, self.side.n_series, t * pres.time_scale,
@@ -438,6 +464,13 @@ class View:
             self.play.camera_mode.value = CAMERAS[0]  # runs apply_camera through its callback
         else:
             self.apply_camera()
+
+    def shot_camera(self, aspect: float) -> tuple[np.ndarray, np.ndarray, float] | None:
+        """A camera framing the path on a whole image of `aspect` (for the screenshot)."""
+        if self._geometry is None:
+            return None
+        cam = fit_camera(self._geometry, aspect)
+        return camera_wxyz(cam), cam.position, FOV
 
     def apply_camera(self, clients: Iterable[viser.ClientHandle] | None = None) -> None:
         """Point the cameras (of `clients`, default all watching) by the camera mode."""

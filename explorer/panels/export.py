@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+import numpy as np
 import viser
 
 from solvers.presentation import Presentation
@@ -13,6 +14,8 @@ from solvers.solution import Solution
 from ..export import file_stem, plots_png, png_bytes, solution_csv, solution_figure, solution_json
 
 Current = Callable[[], tuple[Solution | None, Presentation | None]]
+# (width/height) -> (wxyz, position, fov) of a camera framing the path on the whole image
+ShotCamera = Callable[[float], tuple[np.ndarray, np.ndarray, float] | None]
 KEYS = ("Keys: **space** play/pause · **r** reset camera · **?** help · **ctrl-k** command "
         "palette. Offline copy of a case: `python -m explorer.export --mission KEY --out DIR`.")
 
@@ -22,9 +25,10 @@ class ExportPanel:
     screen."""
 
     def __init__(self, gui: viser.GuiApi, current: Current, time_limit: float | None,
-                 on_time_limit: Callable[[float], None], on_dark: Callable[[bool], None]
-                 ) -> None:
+                 on_time_limit: Callable[[float], None], on_dark: Callable[[bool], None],
+                 shot_camera: ShotCamera) -> None:
         self.current = current
+        self.shot_camera = shot_camera
         with gui.add_folder("Download"):
             for label, kind in (("solution (JSON)", "json"), ("solution (CSV)", "csv"),
                                 ("plots (PNG)", "plots"), ("screenshot of the view (PNG)",
@@ -70,8 +74,15 @@ class ExportPanel:
                                           save_immediately=True)
             else:
                 camera = client.camera
-                image = client.get_render(camera.image_height, camera.image_width,
-                                          transport_format="png", timeout=30.0)
+                height, width = camera.image_height, camera.image_width
+                pose = self.shot_camera(width / max(height, 1))
+                if pose is None:
+                    image = client.get_render(height, width, transport_format="png",
+                                              timeout=30.0)
+                else:  # framed for the whole image: no panel covers a screenshot
+                    wxyz, position, fov = pose
+                    image = client.get_render(height, width, wxyz=wxyz, position=position,
+                                              fov=fov, transport_format="png", timeout=30.0)
                 name = f"{file_stem(sol)}-view.png" if sol else "view.png"
                 client.send_file_download(name, png_bytes(image), save_immediately=True)
         except (RuntimeError, TimeoutError) as exc:

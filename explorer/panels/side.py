@@ -4,10 +4,12 @@ A figure is sent to the browser only when it changed."""
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
+
 import plotly.graph_objects as go
 import viser
 
-from solvers.presentation import GridMap
+from solvers.presentation import GridMap, PlotSeries
 
 from ..plots import figure_aspect, make_figure, map_figure
 
@@ -16,12 +18,20 @@ PANEL_GAP = 10  # px from the canvas edges
 PLOT_ASPECT = 0.37  # height/width of the figure inside that panel
 
 
-class SidePanel:
-    """Plots, Map and About tabs in a panel floating over the 3D view."""
+PER_PAGE = 6  # plots on one page of the panel: more would squeeze or overflow it
 
-    def __init__(self, gui: viser.GuiApi) -> None:
+
+class SidePanel:
+    """Plots, Map and About tabs in a panel floating over the 3D view; more than
+    `PER_PAGE` plots are shown a page at a time."""
+
+    def __init__(self, gui: viser.GuiApi, on_page: Callable[[], None]) -> None:
         self.panel = gui.add_panel()
         with self.panel.add_tab("Plots", viser.Icon.CHART_LINE):
+            self.page = gui.add_dropdown("plots", ("all",), visible=False,
+                                         hint="This solution has more plots than fit: "
+                                              "choose which to show.")
+            self.page.on_update(lambda _: on_page())
             self.plot = gui.add_plotly(make_figure([]), aspect=PLOT_ASPECT)
         with self.panel.add_tab("Map", viser.Icon.MAP):
             self.map_note = gui.add_markdown("This mission has no map.")
@@ -32,6 +42,21 @@ class SidePanel:
         self.figure = make_figure([])
         self.n_series = 0
         self._map_key: tuple | None = None
+
+    def page_of(self, series: Sequence[PlotSeries]) -> list[PlotSeries]:
+        """The series of the chosen page (the page list follows the series' titles)."""
+        series = list(series)
+        if len(series) <= PER_PAGE:
+            self.page.visible = False
+            return series
+        pages = [series[i:i + PER_PAGE] for i in range(0, len(series), PER_PAGE)]
+        names = tuple(f"{chunk[0].title} … {chunk[-1].title}" if len(chunk) > 1
+                      else chunk[0].title for chunk in pages)
+        if tuple(self.page.options) != names:
+            self.page.options = names
+            self.page.value = names[0]
+        self.page.visible = True
+        return pages[names.index(self.page.value)] if self.page.value in names else pages[0]
 
     def show_figure(self, figure: go.Figure, n_series: int) -> None:
         self.figure, self.n_series = figure, n_series

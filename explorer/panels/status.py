@@ -94,11 +94,24 @@ def details_markdown(sol: Solution) -> str:
     return "\n".join(["| | |", "|---|---|", *rows])
 
 
+# What to try, by status, in the explorer's words (the message says what happened).
+HINTS = {
+    "time-limit": "What to try: raise the limit (Export tab › Settings › solve time limit), "
+                  "fewer nodes, or another method.",
+    "iteration-limit": "What to try: solve from the initial guess (Setup), fewer or more "
+                       "nodes, or another method.",
+    "failed": "What to try: solve from the initial guess (Setup), another method or node "
+              "count.",
+}
+
+
 def result_markdown(sol: Solution, checking: bool = False, kept: bool = False) -> str:
     """The full status; `kept` notes that an older good trajectory stays on screen."""
     lines = [headline(sol), solver_line(sol)]
     if not sol.ok:
         lines.append(f"_{sol.message}_")
+        if sol.status in HINTS:
+            lines.append(HINTS[sol.status])
         if kept:
             lines.append(KEPT)
     check = check_line(sol)

@@ -10,6 +10,7 @@ display unit; the session always receives SI.
 
 from __future__ import annotations
 
+import datetime as dt
 import math
 import re
 import threading
@@ -35,6 +36,8 @@ def display_unit(p: Param) -> str:
 
 
 def label_of(p: Param) -> str:
+    if p.epoch is not None:
+        return f"{p.label} [days from {p.epoch}]"
     unit = display_unit(p)
     return f"{p.label} [{unit}]" if unit and not p.options else p.label
 
@@ -60,7 +63,11 @@ def display_range(p: Param) -> tuple[float, float, float]:
 
 
 def shown_text(p: Param, si: float) -> str:
-    """The box's text for an SI value: the display value, no binary noise."""
+    """The box's text for an SI value: the display value, no binary noise; a date for a
+    day count from an epoch."""
+    if p.epoch is not None:
+        day = dt.date.fromisoformat(p.epoch) + dt.timedelta(days=round(si))
+        return day.isoformat()
     return f"{to_display(p, si):.10g}"
 
 
@@ -71,6 +78,17 @@ def parse_typed(p: Param, text: str) -> float:
     unit = display_unit(p)
     allowed = f"enter a value from {lo:g} to {hi:g}" + (f" {unit}" if unit else "")
     raw = text.strip()
+    if p.epoch is not None:
+        first, last = shown_text(p, p.min), shown_text(p, p.max)
+        try:
+            days = (dt.date.fromisoformat(raw) - dt.date.fromisoformat(p.epoch)).days
+        except ValueError:
+            pass  # not a date: maybe a day count
+        else:
+            if not p.min <= days <= p.max:
+                raise ValueError(f"{raw} is outside the allowed dates: {first} to {last}")
+            return float(days)
+        allowed = f"enter a date from {first} to {last} (YYYY-MM-DD) or a day count"
     if unit and raw.endswith(unit):
         raw = raw[: -len(unit)].strip()
     raw = re.sub(r"(?<=\d)[,_ ](?=\d{3})", "", raw)
