@@ -15,7 +15,8 @@ import plotly.io as pio
 
 from solvers.presentation import GridMap, PlotSeries
 
-GROUP_COLORS = {"state": "#00c8ff", "control": "#ff8c00"}
+GROUP_COLORS = {"state": "#00c8ff", "control": "#ff8c00", "costate": "#c890ff"}
+REFERENCE_COLOR = "#ff78c8"  # palette.REFERENCE: an independent optimum, dashed
 OTHER_COLOR = "#b0e060"
 MAX_NODE_MARKS = 80  # more node markers than this would hide the line they sit on
 MARKER_COLOR = {True: "#ffe14d", False: "#c06000"}  # time marker on dark / light
@@ -50,6 +51,10 @@ def make_figure(series: Sequence[PlotSeries], dim: bool = False, dark: bool = Tr
     Built as plain plotly JSON (axes laid out here, no `make_subplots`, no validation):
     plotly's validating constructors cost ~25 ms per subplot, far too slow for a figure
     redrawn on every slider move."""
+    # A "reference" series is drawn dashed into the subplot of the series of its title.
+    own = [s for s in series if s.group != "reference"]
+    references = [s for s in series if s.group == "reference"]
+    series = own
     titles_src = list(series) or (list(overlays[0][2]) if overlays else [])
     n = len(titles_src)
     rows, columns = grid(n)
@@ -73,6 +78,11 @@ def make_figure(series: Sequence[PlotSeries], dim: bool = False, dark: bool = Tr
                          "xaxis": _axis("x", i), "yaxis": _axis("y", i),
                          "name": f"{s.title} nodes", "showlegend": False,
                          "marker": {"color": node_color, "size": 3}, "hoverinfo": "x+y"})
+    for s in references:
+        if s.title in where:
+            data.append(line(s, where[s.title], name=f"{s.title} (maximum principle)",
+                             line={"color": REFERENCE_COLOR, "width": 1.5, "dash": "dash"},
+                             showlegend=False, hoverinfo="x+y"))
     for name, rgb, overlay in overlays:
         first = True
         for s in overlay:

@@ -23,12 +23,14 @@ class Solve:
 
     mission: Mission
     method: str
-    nodes: int
+    nodes: int | str  # a count, or "auto": refine until the accuracy targets are met
     backend: str | None
     values: Mapping[str, float]
     warm: Solution | None
     time_limit: float | None
     session: str = ""
+    cold: bool = False  # from the initial guess (and every refinement step too)
+    starts: int = 1  # several cold starts, keep the best
 
 
 class Pending(Protocol):
@@ -61,8 +63,14 @@ class _LocalPending:
 
     def result(self) -> Solution:
         s = self.solve
+        if s.starts > 1:
+            from solvers.multistart import multistart
+
+            self._solution = multistart(s.mission, dict(s.values), s.method, s.nodes,
+                                        starts=s.starts, backend=s.backend)
+            return self._solution
         self._solution = s.mission.solve(
-            dict(s.values), s.method, s.nodes, backend=s.backend, warm=s.warm,
+            dict(s.values), s.method, s.nodes, backend=s.backend, warm=s.warm, cold=s.cold,
             progress=self.progress, cancel=self.cancel_event, time_limit=s.time_limit,
             verify=False)
         return self._solution
@@ -105,7 +113,8 @@ class _ServicePending:
     def result(self) -> Solution:
         if not self._wait(self.job.done):
             s = self.solve
-            return s.mission.empty(dict(s.values), s.mission.method(s.method), s.nodes,
+            nodes = s.nodes if isinstance(s.nodes, int) else s.mission.method(s.method).nodes[1]
+            return s.mission.empty(dict(s.values), s.mission.method(s.method), nodes,
                                    s.backend or "", "cancelled", "cancelled by a newer request")
         return self.job.result()
 
@@ -131,7 +140,8 @@ class ServiceRunner:
     def start(self, solve: Solve, cancel: threading.Event, progress: Progress | None
               ) -> Pending:
         spec = SolveSpec(solve.mission.key, solve.method, solve.nodes, solve.backend,
-                         dict(solve.values), solve.warm, solve.time_limit)
+                         dict(solve.values), None if solve.cold else solve.warm,
+                         solve.time_limit, starts=solve.starts, cold=solve.cold)
         job = self.service.submit(spec, session=solve.session, progress=progress)
         return _ServicePending(job, solve, cancel)
 

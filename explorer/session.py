@@ -44,6 +44,8 @@ class Request:
     time_limit: float | None = None
     compare: tuple[tuple[str, int], ...] = ()  # (method, nodes) pairs of a comparison
     cold: bool = False
+    refine: bool = False  # nodes "auto": refine until the accuracy targets are met
+    starts: int = 1  # several cold starts, keep the best
     cancel: threading.Event = field(default_factory=threading.Event, compare=False)
     # A newer request came in, but this one may finish and be drawn (a slider drag shows
     # its intermediate optima); its check is skipped.
@@ -240,10 +242,12 @@ class Session:
         self.time_limit = None if seconds is None or seconds <= 0 else float(seconds)
 
     # ---- solving ----------------------------------------------------------------------
-    def submit(self, cold: bool = False) -> Request:
+    def submit(self, cold: bool = False, refine: bool = False, starts: int = 1) -> Request:
         """Queue a solve of the current state (`cold`: from the method's initial guess, not
-        from the last good solution); cancels the running and waiting ones."""
-        return self._queue((), cold)
+        from the last good solution; `refine`: with as many nodes as the accuracy targets
+        need; `starts` > 1: from several initial guesses, keeping the best); cancels the
+        running and waiting ones."""
+        return self._queue((), cold or starts > 1, refine, starts)
 
     def compare(self, methods: Sequence[str]) -> Request:
         """Queue a comparison: every method in `methods` on the current values (the current
@@ -255,21 +259,31 @@ class Session:
             raise ValueError("choose at least one method to compare")
         return self._queue(pairs, cold=True)
 
+    def check_from_cold(self) -> Request:
+        """Solve the current case again from the initial guess, as a comparison of one, so
+        the view can set it beside the answer on screen (does the answer depend on the
+        path that led to it?)."""
+        return self._queue(((self.method, self.nodes),), cold=True)
+
     def request_time_limit(self, compare: bool = False, cold: bool = False) -> float | None:
         """The limit of the next solve: `time_limit`, times `COLD_FACTOR` when it cannot be
         warm-started (first solve of this mission and method, a cold solve or a
         comparison)."""
         good = self.last_good
         warm = (good is not None and good.mission == self.mission.key
-                and good.method == self.method)
+                and good.method == self.method and good.converged)
         if self.time_limit is None or (warm and not compare and not cold):
             return self.time_limit
         return COLD_FACTOR * self.time_limit
 
-    def _queue(self, compare: tuple[tuple[str, int], ...], cold: bool) -> Request:
+    def _queue(self, compare: tuple[tuple[str, int], ...], cold: bool, refine: bool = False,
+               starts: int = 1) -> Request:
+        limit = self.request_time_limit(bool(compare), cold)
+        if limit is not None and (refine or starts > 1):
+            limit *= max(starts, 1) * (COLD_FACTOR if refine else 1.0)
         request = Request(next(self._seq), self.mission, self.method, self.nodes, self.backend,
-                          dict(self.values), self.request_time_limit(bool(compare), cold),
-                          compare, cold)
+                          dict(self.values), limit, compare, cold, refine=refine,
+                          starts=starts)
         with self._cond:
             running = self._running
             if running is not None:
@@ -352,8 +366,9 @@ class Session:
             if not self._stale(request):
                 self._emit("on_progress", request, iteration, label or message)
 
-        solve = Solve(request.mission, method, nodes, backend, request.values, warm,
-                      request.time_limit, self.id)
+        solve = Solve(request.mission, method, "auto" if request.refine else nodes, backend,
+                      request.values, warm, request.time_limit, self.id,
+                      cold=request.cold, starts=request.starts)
         return self.runner.start(solve, request.cancel, progress)
 
     def _run(self, request: Request) -> None:
@@ -372,10 +387,12 @@ class Session:
             return
         self.error = None
         self.latest = sol
-        if sol.ok:
+        if sol.converged:
             self.last_good = sol
+            if request.refine:
+                self.nodes = sol.nodes  # the mesh the refinement settled on
         self._emit("on_result", request, sol)
-        if not (sol.ok and sol.has_trajectory) or self._stale(request) \
+        if not (sol.converged and sol.has_trajectory) or self._stale(request) \
                 or request.superseded.is_set():
             pending.discard()
             return
@@ -408,7 +425,7 @@ class Session:
                 return
             solutions.append((sol, pending))
         for sol, pending in solutions:
-            if sol.ok and sol.has_trajectory and not self._stale(request):
+            if sol.converged and sol.has_trajectory and not self._stale(request):
                 pending.check()
         if not self._stale(request):
             self._emit("on_compare", request, [sol for sol, _ in solutions])

@@ -28,12 +28,14 @@ from .geometry import PALETTE, WARNING, Geometry, build_geometry, ghost_geometry
 from .help import KeyHelp, Welcome
 from .legend import legend_html
 from .link import CaseLink, case_query, parse_case
+from .optimality import color_by_error, optimality_plots
 from .panels.compare import ComparePanel, comparison_html
 from .panels.export import ExportPanel
 from .panels.play import CAMERAS, PlayPanel
 from .panels.setup import Controls
 from .panels.side import PANEL_GAP, PLOT_PANEL, SidePanel
 from .panels.status import StatusPanel
+from .panels.trust import TrustPanel
 from .player import Track
 from .plots import make_figure, set_time_marker
 from .readouts import readout_markdown, readouts
@@ -91,6 +93,8 @@ class View:
         tab_setup = tabs.add_tab("Setup", viser.Icon.ADJUSTMENTS)
         self.controls = Controls(gui, self.session, missions, order=10, container=tab_setup,
                                  report=self.refuse)
+        with tab_setup:
+            self.trust = TrustPanel(gui, self.session, self._redraw, order=10.5)
         with tabs.add_tab("Play", viser.Icon.PLAYER_PLAY):
             self.play = PlayPanel(gui, self.show_time, self.apply_camera, self.reset_camera,
                                   self._draw_ghosts, self.replay_iterations)
@@ -243,7 +247,9 @@ class View:
         good = self.session.last_good
         self.clear_comparison(redraw=False)
         self.status.clear_notices()
-        if solution.ok:
+        if request.refine and solution.converged:
+            self.controls.fields["nodes"].show(solution.nodes)
+        if solution.converged:
             self._draw(solution, dim=False)
             self._set_failed(None)
         else:
@@ -253,12 +259,12 @@ class View:
             self.status.notify(self.cameras.clients.values(),
                                f"{solution.status}: {solution.mission}", solution.message)
         self.status.show_result(solution, checking=solution.ok,
-                                kept=good is not None and not solution.ok)
+                                kept=good is not None and not solution.converged)
 
     def on_check(self, request: Request, solution: Solution) -> None:
         self.status.show_result(solution, checking=False, kept=False)
-        if solution.references and self._shown is not None and self._shown[0] is solution:
-            self._draw(solution, dim=False)  # the check added a reference to draw
+        if self._shown is not None and self._shown[0] is solution:
+            self._draw(solution, dim=False)  # the check added errors and references
 
     def on_error(self, request: Request, message: str) -> None:
         good = self.session.last_good
@@ -269,18 +275,28 @@ class View:
 
     def on_compare(self, request: Request, solutions: list[Solution]) -> None:
         self.status.restore()
+        good = self.session.last_good
+        if len(request.compare) == 1 and good is not None:  # check from cold
+            cold = solutions[0]
+            self.show_comparison([good, cold], ["on screen", "from the initial guess"])
+            self.trust.report_cold(good, cold)
+            return
         self.show_comparison(solutions)
 
     # ---- drawing ----------------------------------------------------------------------
     def present(self, sol: Solution) -> Presentation:
-        return self.session.mission.present(sol, self.session.view)
+        """The mission's presentation of `sol`, coloured by the local error if asked."""
+        pres = self.session.mission.present(sol, self.session.view)
+        if self.trust.error_colors.value:
+            color_by_error(sol, pres)
+        return pres
 
     def _draw(self, sol: Solution, dim: bool) -> None:
         if not sol.has_trajectory:
             return
         pres = self.present(sol)
         geometry = build_geometry(pres, sol.t, sol.arcs, dim=dim)
-        plots = self.side.page_of(pres.plots)
+        plots = self.side.page_of(pres.plots, optimality_plots(sol))
         figure = make_figure(plots, dim=dim, dark=self.dark, time_unit=pres.time_unit,
                              time_scale=pres.time_scale)
         with self._lock, self.atomic():
@@ -289,9 +305,10 @@ class View:
             self._geometry = geometry
             if not dim:
                 self._new_track(sol, pres, geometry)
-            set_time_marker(figure, len(plots),
+            subplots = sum(p.group != "reference" for p in plots)
+            set_time_marker(figure, subplots,
                             self.play.t * pres.time_scale if self.track else None, self.dark)
-            self.side.show_figure(figure, len(plots))
+            self.side.show_figure(figure, subplots)
             self.side.show_map(pres.maps[0] if pres.maps else None, self.dark)
             self._draw_ghosts()
         self.status.legend.content = legend_html(geometry, dim=dim, failed=self._failed,
@@ -353,7 +370,8 @@ class View:
             self._draw(sol, dim)
 
     # ---- comparison -------------------------------------------------------------------
-    def show_comparison(self, solutions: list[Solution]) -> None:
+    def show_comparison(self, solutions: list[Solution],
+                        names: list[str] | None = None) -> None:
         self._comparison = solutions
         colors = [PALETTE[i % len(PALETTE)] for i in range(len(solutions))]
         presentations = [self.present(s) if s.has_trajectory else None for s in solutions]
@@ -366,7 +384,7 @@ class View:
                     self.scene.set_layer(f"compare/{i}", segs,
                                          np.broadcast_to(np.array(color, np.uint8), segs.shape),
                                          thickness=3.5)
-            labels = [s.method for s in solutions]
+            labels = names or [s.method for s in solutions]
             first = next((p for p in presentations if p is not None), None)
             figure = make_figure([], dark=self.dark, overlays=[
                 (label, color, pres.plots) for label, color, pres
@@ -374,7 +392,8 @@ class View:
                 time_unit=first.time_unit if first else "s",
                 time_scale=first.time_scale if first else 1.0)
             self.side.show_figure(figure, 0)
-        self.compare.table.content = comparison_html(self.session.mission, solutions, colors)
+        self.compare.table.content = comparison_html(self.session.mission, solutions, colors,
+                                                     labels)
         if self._geometry is not None:
             self.status.legend.content = legend_html(self._geometry, comparison=list(zip(
                 labels, colors, strict=True)))

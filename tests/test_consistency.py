@@ -24,7 +24,7 @@ def test_methods_agree(solved, mission_key: str, agreement: Consistency) -> None
     values = {}
     for method in methods:
         sol = solved(mission_key, method, None, {})
-        assert sol.ok, f"{mission_key}/{method}: {sol.message}"
+        assert sol.converged, f"{mission_key}/{method}: {sol.message}"
         values[method] = sol.value(agreement.name)
     scale = max(abs(v) for v in values.values())
     for (a, va), (b, vb) in itertools.combinations(values.items(), 2):

@@ -57,18 +57,20 @@ def comparison_rows(mission: Mission, solutions: Sequence[Solution]) -> list[lis
 
 
 def comparison_html(mission: Mission, solutions: Sequence[Solution],
-                    colors: Sequence[tuple[int, int, int]]) -> str:
+                    colors: Sequence[tuple[int, int, int]],
+                    names: Sequence[str] | None = None) -> str:
     """The table as HTML, each method's header underlined in its overlay colour; failed
     solves say why below the table."""
     rows = comparison_rows(mission, solutions)
     head = "".join(
         f'<th style="border-bottom:4px solid rgb{tuple(c)}" '
-        f'title="{html.escape(mission.method(s.method).label)}">{html.escape(s.method)}</th>'
-        for s, c in zip(solutions, colors, strict=False))
+        f'title="{html.escape(mission.method(s.method).label)}">{html.escape(name)}</th>'
+        for s, c, name in zip(solutions, colors, names or [s.method for s in solutions],
+                              strict=False))
     body = "".join("<tr>" + "".join(f"<td>{html.escape(v)}</td>" for v in row) + "</tr>"
                    for row in rows[1:])
     notes = "".join(f"<p><b>{html.escape(mission.method(s.method).label)}</b>: "
-                    f"{html.escape(s.message)}</p>" for s in solutions if not s.ok)
+                    f"{html.escape(s.message)}</p>" for s in solutions if not s.converged)
     return ('<style>.cmp{font-size:0.8em;border-collapse:collapse;width:100%}'
             '.cmp td,.cmp th{padding:2px 4px;border-bottom:1px solid rgba(128,128,128,.3);'
             'text-align:right;vertical-align:top}.cmp td:first-child{text-align:left}</style>'

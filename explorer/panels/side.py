@@ -43,15 +43,16 @@ class SidePanel:
         self.n_series = 0
         self._map_key: tuple | None = None
 
-    def page_of(self, series: Sequence[PlotSeries]) -> list[PlotSeries]:
-        """The series of the chosen page (the page list follows the series' titles)."""
-        series = list(series)
-        if len(series) <= PER_PAGE:
+    def page_of(self, series: Sequence[PlotSeries], extra: Sequence[PlotSeries] = ()
+                ) -> list[PlotSeries]:
+        """The series of the chosen page: the mission's plots a page at a time, then the
+        `extra` ones (costates, H...) on pages of their own; the page list follows the
+        titles. A "reference" series rides with the series of its title."""
+        pages = _pages(list(series)) + _pages(list(extra))
+        if len(pages) <= 1:
             self.page.visible = False
-            return series
-        pages = [series[i:i + PER_PAGE] for i in range(0, len(series), PER_PAGE)]
-        names = tuple(f"{chunk[0].title} … {chunk[-1].title}" if len(chunk) > 1
-                      else chunk[0].title for chunk in pages)
+            return pages[0] if pages else []
+        names = tuple(_page_name(chunk) for chunk in pages)
         if tuple(self.page.options) != names:
             self.page.options = names
             self.page.value = names[0]
@@ -77,3 +78,21 @@ class SidePanel:
         self.map_plot.visible = grid_map is not None
         if grid_map is not None:
             self.map_plot.figure = map_figure(grid_map, dark)
+
+
+def _pages(series: list[PlotSeries]) -> list[list[PlotSeries]]:
+    """Chunks of at most PER_PAGE subplots (a reference series stays with its own)."""
+    pages: list[list[PlotSeries]] = []
+    for s in series:
+        if s.group == "reference" and pages:
+            pages[-1].append(s)
+        elif not pages or sum(x.group != "reference" for x in pages[-1]) >= PER_PAGE:
+            pages.append([s])
+        else:
+            pages[-1].append(s)
+    return pages
+
+
+def _page_name(chunk: list[PlotSeries]) -> str:
+    titles = [s.title for s in chunk if s.group != "reference"]
+    return titles[0] if len(titles) == 1 else f"{titles[0]} … {titles[-1]}"

