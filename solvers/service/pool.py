@@ -28,6 +28,11 @@ from .worker import resident_bytes, worker_main
 
 Progress = Callable[[int, str], None]
 GRACE = 1.0  # s past a solve's time limit before its worker is killed
+# The workers are the parallelism: a worker's linear algebra runs on one thread, or two
+# workers' BLAS thread pools fight over the cores (measured on 2 cores: LGL warm re-solves
+# 17-23 ms on one thread, 19-100 ms on the default pool).
+SINGLE_THREAD_ENV = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
+_ENV_LOCK = threading.Lock()
 MAX_EARLY_DEATHS = 3  # workers dying before they are ready, in a row, before giving up
 RSS_BUDGET = 700 * 2**20  # bytes per worker before it empties its NLP cache or retires
 CRASHED = ("the solver process stopped unexpectedly ({why}); the last good answer is kept — "
@@ -144,7 +149,8 @@ class SolveService:
         process = self._ctx.Process(
             target=worker_main, name=f"solve-worker-{index}", daemon=True,
             args=(child, self.mission_files, self.prebuild, self.rss_budget, self.test_hooks))
-        process.start()
+        with _single_threaded_children():
+            process.start()
         child.close()
         worker = _Worker(index, process, parent)
         threading.Thread(target=self._read, args=(worker,), daemon=True,
@@ -384,3 +390,18 @@ class SolveService:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+@contextlib.contextmanager
+def _single_threaded_children():
+    """Spawn with the BLAS/OpenMP thread counts at one unless the user has set them (a
+    spawned process reads them from the environment when its numpy loads)."""
+    with _ENV_LOCK:
+        added = [v for v in SINGLE_THREAD_ENV if v not in os.environ]
+        for var in added:
+            os.environ[var] = "1"
+        try:
+            yield
+        finally:
+            for var in added:
+                os.environ.pop(var, None)

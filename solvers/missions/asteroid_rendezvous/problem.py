@@ -190,7 +190,10 @@ def _boundary(b: BoundaryPoint, p: ca.SX) -> ca.SX:
 def _bounds(p: np.ndarray) -> Bounds:
     vmax = float(np.sqrt(p[P_C3]))
     return Bounds(
-        x_lb=np.array([-3.0] * 6 + [0.02]), x_ub=np.array([3.0] * 6 + [1.0]),
+        # Mass above m0 is impossible (m' <= 0), so its upper bound is never needed; at 1.0
+        # it would coincide with m(t0) = 1 (a bound and an equality on the same variable: no
+        # unique multipliers, and a warm re-solve crawled 38-59 iterations instead of 4-5).
+        x_lb=np.array([-3.0] * 6 + [0.02]), x_ub=np.array([3.0] * 6 + [1.5]),
         u_lb=np.array([-1.0, -1.0, -1.0, GAMMA_MIN]), u_ub=np.ones(4),
         T_lb=p[P_T_LB], T_ub=p[P_T_UB], t0_lb=p[P_T0_LB], t0_ub=p[P_T0_UB],
         s_lb=-vmax * np.ones(3), s_ub=vmax * np.ones(3),
