@@ -25,6 +25,7 @@ LIVE_PARAMETER = {
     "hovercraft": "accel",
     "apollo-reentry": "v0",
     "asteroid-rendezvous": "thrust",
+    "bang-bang": "accel",
 }
 
 

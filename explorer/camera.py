@@ -124,6 +124,7 @@ class Cameras:
         self._placed: dict[int, tuple[np.ndarray, np.ndarray]] = {}  # what we set last
         self.user_view: dict[int, np.ndarray] = {}  # direction a person chose, per browser
         self._refit: Callable[[viser.ClientHandle], None] | None = None
+        self.framed: tuple[str, np.ndarray, np.ndarray, float] | None = None
 
     def attach(self, client: viser.ClientHandle, refit: Callable[[viser.ClientHandle], None]
                ) -> None:
@@ -136,6 +137,23 @@ class Cameras:
         self._fit_aspect.pop(client.client_id, None)
         self._placed.pop(client.client_id, None)
         self.user_view.pop(client.client_id, None)
+
+    def needs_framing(self, mission: str, g: Geometry) -> bool:
+        """Whether the cameras must frame the path again: a new mission, a path that left
+        the framed box (by a quarter of its size) or shrank below 40 % of it. Records the
+        new frame when they must."""
+        lo, hi = g.points.min(axis=0), g.points.max(axis=0)
+        old = self.framed
+        if old is not None and old[0] == mission:
+            _, old_lo, old_hi, old_extent = old
+            margin = 0.25 * old_extent
+            inside = bool(np.all(lo >= old_lo - margin) and np.all(hi <= old_hi + margin))
+            if inside and g.extent >= 0.4 * old_extent:
+                return False
+        else:
+            self.forget_user_views()
+        self.framed = (mission, lo, hi, g.extent)
+        return True
 
     def forget_user_views(self) -> None:
         """Back to the framed overview (reset camera, another mission)."""
@@ -233,3 +251,9 @@ def camera_wxyz(cam: Camera) -> np.ndarray:
 
     forward = np.asarray(cam.look_at, float) - np.asarray(cam.position, float)
     return quaternion_from_axes(forward / np.linalg.norm(forward), -np.asarray(cam.up, float))
+
+
+def shot_pose(g: Geometry, aspect: float) -> tuple[np.ndarray, np.ndarray, float]:
+    """(wxyz, position, fov) of a camera framing `g` on a whole image (no panel over it)."""
+    cam = fit_camera(g, aspect)
+    return camera_wxyz(cam), cam.position, FOV

@@ -23,12 +23,13 @@ from solvers.solution import Solution
 
 from . import style
 from .about import about_html
-from .camera import FOV, Cameras, camera_wxyz, fit_camera, top_view
-from .geometry import PALETTE, WARNING, Geometry, build_geometry, ghost_geometry, path_segments
+from .camera import Cameras, shot_pose, top_view
+from .geometry import WARNING, Geometry, build_geometry, ghost_geometry, path_segments
 from .help import KeyHelp, Welcome
 from .legend import legend_html
 from .link import CaseLink, case_query, parse_case
 from .optimality import color_by_error, optimality_plots
+from .overlays import IterationReplay, comparison_figure, comparison_layers, solutions_drawn
 from .panels.compare import ComparePanel, comparison_html
 from .panels.export import ExportPanel
 from .panels.play import CAMERAS, PlayPanel
@@ -46,7 +47,6 @@ from .session import DEFAULT_TIME_LIMIT, Request, Session
 PROGRESS_INTERVAL = 0.1  # s between "solving… iteration k" updates
 DIM_AFTER = 0.25  # s: a solve slower than this dims the old trajectory while it runs
 DRAG_PATIENCE = 0.5  # s: a newer slider value lets a younger running solve finish and show
-REPLAY_STEP_S = 0.45  # s per iterate in the iteration replay
 MARKER_S = 1.0  # s between the plots' time-marker updates while playing
 
 
@@ -79,9 +79,8 @@ class View:
         self._failed = False
         self._geometry: Geometry | None = None
         self._shown: tuple[Solution, Presentation, bool] | None = None
-        self._framed: tuple[str, np.ndarray, np.ndarray, float] | None = None
         self._comparison: list[Solution] = []
-        self._replay: threading.Thread | None = None
+        self._drawn: tuple = ()  # what the check could change of the drawing on screen
         self._marker_at = 0.0
 
         style.install(gui)
@@ -109,6 +108,8 @@ class View:
         self.cameras = Cameras(PLOT_PANEL[1] + PANEL_GAP)
         self._build_commands()
         self.scene = SceneView(scene, dark=self.dark, root=scene_root)
+        self.replay = IterationReplay(self.scene, self._lock, lambda: self.presentation,
+                                      self._say_replay, self._replay_done)
         self.session.listeners.append(self)
         self.on_config(self.session)
         self.session.auto = True
@@ -117,7 +118,7 @@ class View:
     def _build_commands(self) -> None:
         play = self.gui.add_command("Play / pause animation", hotkey="space",
                                     icon=viser.Icon.PLAYER_PLAY)
-        play.on_trigger(lambda _: self.toggle_play())
+        play.on_trigger(lambda _: self.play.toggle())
         reset = self.gui.add_command("Reset camera", hotkey="R", icon=viser.Icon.FOCUS_CENTERED)
         reset.on_trigger(lambda _: self.reset_camera())
         self.key_help = KeyHelp(self.gui)
@@ -139,6 +140,9 @@ class View:
             self.session.restore(mission, method, nodes, values, view, backend)
         except ValueError as exc:
             self.refuse("this link's case cannot be restored", str(exc))
+
+    def _say_replay(self, text: str) -> None:
+        self.play.replay_text.content = text
 
     def refuse(self, title: str, message: str) -> None:
         """A typed value was refused: say why in every watching browser."""
@@ -166,25 +170,6 @@ class View:
             return good, self.present(good) if good is not None else None
         return good, self._shown[1]
 
-    @property
-    def track(self) -> Track | None:
-        return self.play.track
-
-    @property
-    def t_anim(self) -> float:
-        return self.play.t
-
-    @property
-    def playing(self) -> bool:
-        return self.play.playing
-
-    def toggle_play(self) -> None:
-        self.play.toggle()
-
-    def scene_vehicle_position(self) -> np.ndarray:
-        """Where the vehicle is drawn now (display units)."""
-        return self.scene.vehicle_position
-
     # ---- browsers watching this view ----------------------------------------------------
     def attach(self, client: viser.ClientHandle) -> None:
         """A browser starts watching: frame the current solution in its camera."""
@@ -197,6 +182,7 @@ class View:
 
     def close(self) -> None:
         self._closed.set()
+        self.replay.closed.set()
         self.play.close()
         self.session.close()
 
@@ -210,7 +196,8 @@ class View:
         if shown is not None and shown != session.mission.key:
             with self._lock:  # another mission: its first solve may fail, show nothing old
                 self.scene.clear()
-                self._geometry, self._shown, self._framed = None, None, None
+                self._geometry, self._shown = None, None
+                self.cameras.framed = None
                 self.play.set_track(None)
                 self.side.show_figure(make_figure([], dark=self.dark), 0)
             self.status.clear()
@@ -263,8 +250,14 @@ class View:
 
     def on_check(self, request: Request, solution: Solution) -> None:
         self.status.show_result(solution, checking=False, kept=False)
-        if self._shown is not None and self._shown[0] is solution:
-            self._draw(solution, dim=False)  # the check added errors and references
+        if self._shown is None or self._shown[0] is not solution:
+            return
+        # Draw again only if the check changed what is on screen (a reference curve, the
+        # error colours, the optimality plots): every redraw costs the page a 3D frame.
+        changed = self._drawn != _signature(self.present(solution), solution)
+        if changed or self.trust.error_colors.value \
+                or self.side.page.value.startswith(("costate", "Hamiltonian")):
+            self._draw(solution, dim=False)
 
     def on_error(self, request: Request, message: str) -> None:
         good = self.session.last_good
@@ -301,19 +294,21 @@ class View:
                              time_scale=pres.time_scale)
         with self._lock, self.atomic():
             self._shown = (sol, pres, dim)
+            self._drawn = _signature(pres, sol)
             self.scene.draw(geometry)
             self._geometry = geometry
             if not dim:
                 self._new_track(sol, pres, geometry)
             subplots = sum(p.group != "reference" for p in plots)
             set_time_marker(figure, subplots,
-                            self.play.t * pres.time_scale if self.track else None, self.dark)
+                            self.play.t * pres.time_scale if self.play.track else None,
+                            self.dark)
             self.side.show_figure(figure, subplots)
             self.side.show_map(pres.maps[0] if pres.maps else None, self.dark)
             self._draw_ghosts()
         self.status.legend.content = legend_html(geometry, dim=dim, failed=self._failed,
                                                  dark=self.dark)
-        if self._reframe(sol.mission, geometry):
+        if self.cameras.needs_framing(sol.mission, geometry):
             self.apply_camera()
         self.drawn += 1
 
@@ -322,23 +317,6 @@ class View:
         if self._shown is not None:
             sol, _, dim = self._shown
             self._draw(sol, dim)
-
-    def _reframe(self, mission: str, g: Geometry) -> bool:
-        """Whether the camera must frame the path again: a new mission, a path that left the
-        framed box (by a quarter of its size) or shrank below 40 % of it. Records the new
-        frame when it must."""
-        lo, hi = g.points.min(axis=0), g.points.max(axis=0)
-        old = self._framed
-        if old is not None and old[0] == mission:
-            _, old_lo, old_hi, old_extent = old
-            margin = 0.25 * old_extent
-            inside = bool(np.all(lo >= old_lo - margin) and np.all(hi <= old_hi + margin))
-            if inside and g.extent >= 0.4 * old_extent:
-                return False
-        else:
-            self.cameras.forget_user_views()
-        self._framed = (mission, lo, hi, g.extent)
-        return True
 
     def _set_failed(self, sol: Solution | None) -> None:
         """Show a failed attempt's trajectory in the warning colour (or remove it)."""
@@ -369,29 +347,15 @@ class View:
             sol, _, dim = self._shown
             self._draw(sol, dim)
 
-    # ---- comparison -------------------------------------------------------------------
+    # ---- comparison and replay -----------------------------------------------------------
     def show_comparison(self, solutions: list[Solution],
                         names: list[str] | None = None) -> None:
         self._comparison = solutions
-        colors = [PALETTE[i % len(PALETTE)] for i in range(len(solutions))]
-        presentations = [self.present(s) if s.has_trajectory else None for s in solutions]
+        presentations = solutions_drawn(solutions, self.present)
+        colors = comparison_layers(self.scene, self._lock, presentations)
+        labels = names or [s.method for s in solutions]
         with self._lock:
-            self.scene.show_solution(False)
-            self.scene.clear_layers("compare")
-            for i, (pres, color) in enumerate(zip(presentations, colors, strict=True)):
-                if pres is not None:
-                    segs = path_segments(pres)
-                    self.scene.set_layer(f"compare/{i}", segs,
-                                         np.broadcast_to(np.array(color, np.uint8), segs.shape),
-                                         thickness=3.5)
-            labels = names or [s.method for s in solutions]
-            first = next((p for p in presentations if p is not None), None)
-            figure = make_figure([], dark=self.dark, overlays=[
-                (label, color, pres.plots) for label, color, pres
-                in zip(labels, colors, presentations, strict=True) if pres is not None],
-                time_unit=first.time_unit if first else "s",
-                time_scale=first.time_scale if first else 1.0)
-            self.side.show_figure(figure, 0)
+            self.side.show_figure(comparison_figure(labels, colors, presentations, self.dark), 0)
         self.compare.table.content = comparison_html(self.session.mission, solutions, colors,
                                                      labels)
         if self._geometry is not None:
@@ -410,34 +374,10 @@ class View:
         if redraw and good is not None:
             self._draw(good, dim=False)
 
-    # ---- iteration replay ---------------------------------------------------------------
     def replay_iterations(self) -> None:
-        pres = self.presentation
-        if pres is None or not pres.iterates:
-            self.play.replay_text.content = "_this method records no iterates_"
-            return
-        if self._replay is not None and self._replay.is_alive():
-            return
-        self._replay = threading.Thread(target=self._run_replay, args=(pres,), daemon=True,
-                                        name="explorer-replay")
-        self._replay.start()
+        self.replay.start(self.dark)
 
-    def _run_replay(self, pres: Presentation) -> None:
-        """Hide the optimum, add the iterates one at a time (older ones fading), then show
-        the optimum again."""
-        with self._lock:
-            self.scene.show_solution(False)
-        n = len(pres.iterates)
-        for k in range(1, n + 1):
-            if self._closed.is_set() or self.presentation is not pres:
-                break
-            segs, cols = ghost_geometry(pres, upto=k, dark=self.dark)
-            with self._lock:
-                self.scene.set_layer("ghosts", segs, cols, thickness=2.0)
-            self.play.replay_text.content = (f"iterate {k} of {n} (solver iteration "
-                                             f"{pres.iterates[k - 1][0]})")
-            time.sleep(REPLAY_STEP_S)
-        self.play.replay_text.content = f"{n} iterates recorded; the optimum is drawn in colour"
+    def _replay_done(self) -> None:
         with self._lock:
             self.scene.show_solution(not self._comparison)
         self._draw_ghosts()
@@ -486,10 +426,7 @@ class View:
 
     def shot_camera(self, aspect: float) -> tuple[np.ndarray, np.ndarray, float] | None:
         """A camera framing the path on a whole image of `aspect` (for the screenshot)."""
-        if self._geometry is None:
-            return None
-        cam = fit_camera(self._geometry, aspect)
-        return camera_wxyz(cam), cam.position, FOV
+        return None if self._geometry is None else shot_pose(self._geometry, aspect)
 
     def apply_camera(self, clients: Iterable[viser.ClientHandle] | None = None) -> None:
         """Point the cameras (of `clients`, default all watching) by the camera mode."""
@@ -498,7 +435,15 @@ class View:
             return
         mode = self.play.camera_mode.value
         follow = None
-        if mode == "follow vehicle" and self.track is not None:
-            follow = self.track.pose(self.play.t).position
+        if mode == "follow vehicle" and self.play.track is not None:
+            follow = self.play.track.pose(self.play.t).position
         self.cameras.frame(g, top_view(g) if mode == "top view" else None, clients, follow,
                            self.scene.vehicle_size)
+
+
+def _signature(pres: Presentation, sol: Solution) -> tuple:
+    """What of a presentation a check can change: its curves, markers, plots and colours."""
+    return (tuple(c.name for c in pres.curves), tuple(m.name for m in pres.markers),
+            tuple((p.title, len(p.t)) for p in pres.plots),
+            None if pres.color_by is None else pres.color_by.name,
+            tuple(sorted(sol.references)))

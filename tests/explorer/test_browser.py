@@ -225,21 +225,21 @@ def test_animation_moves_the_vehicle(tab):
     settle(page, 60.0)
     canvas = {"x": 0.27 * WIDTH, "y": 0, "width": 0.7 * WIDTH, "height": 0.55 * HEIGHT}
     before = page.screenshot(clip=canvas)
-    p0 = view.scene_vehicle_position()
+    p0 = view.scene.vehicle_position
     page.mouse.click(0.6 * WIDTH, 0.1 * HEIGHT)  # focus the 3D view
     page.keyboard.press("Space")  # the play/pause hotkey
-    _until(lambda: view.playing, "the animation to start (space)", timeout=20.0)
-    _until(lambda: view.t_anim > 0.3 * view.track.tf, "the vehicle to fly", timeout=30.0)
+    _until(lambda: view.play.playing, "the animation to start (space)", timeout=20.0)
+    _until(lambda: view.play.t > 0.3 * view.play.track.tf, "the vehicle to fly", timeout=30.0)
     page.keyboard.press("Space")
-    _until(lambda: not view.playing, "the animation to pause (space)", timeout=20.0)
-    p1 = view.scene_vehicle_position()
+    _until(lambda: not view.play.playing, "the animation to pause (space)", timeout=20.0)
+    p1 = view.scene.vehicle_position
     assert np.linalg.norm(p1 - p0) > 0.1 * view.geometry.extent
     settle(page, 60.0)
     after = page.screenshot(clip=canvas)
     assert after != before, "the picture did not change while the vehicle moved"
     # The play tab reads out the state at the animation time, the plots carry the marker.
     assert "altitude above Moon" in page.inner_text("body")
-    assert view.side.figure.layout.shapes[0].x0 == pytest.approx(view.t_anim)
+    assert view.side.figure.layout.shapes[0].x0 == pytest.approx(view.play.t)
     view.play.camera_mode.value = "follow vehicle"
     page.keyboard.press("r")  # the reset-camera hotkey
     _until(lambda: view.play.camera_mode.value == "overview", "r to reset the camera", 20.0)

@@ -246,16 +246,16 @@ def test_live_view_stays_bounded_over_many_resolves():
         assert view.session.latest.ok and view.drawn >= 20
         assert len(set(counts)) == 1 and len(set(names)) == 1, (counts, names)
         # Play a little: the vehicle moves and the slider, read-outs and marker follow.
-        p0 = view.scene_vehicle_position()
-        view.toggle_play()
+        p0 = view.scene.vehicle_position
+        view.play.toggle()
         time.sleep(1.0)
-        view.toggle_play()
+        view.play.toggle()
         deadline = time.monotonic() + 5.0  # the player thread makes a last slow update
         slider = view.play.time_slider
-        while slider.value != pytest.approx(view.t_anim, abs=slider.step):
+        while slider.value != pytest.approx(view.play.t, abs=slider.step):
             assert time.monotonic() < deadline, "the time slider did not follow"
             time.sleep(0.05)
-        assert np.linalg.norm(view.scene_vehicle_position() - p0) > 0
+        assert np.linalg.norm(view.scene.vehicle_position - p0) > 0
         assert "altitude above Moon" in view.play.readout.content
         assert threading.active_count() < 200
         view.close()
