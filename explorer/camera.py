@@ -230,18 +230,26 @@ def nice_length(x: float) -> float:
 
 
 def scale_bar(g: Geometry) -> tuple[np.ndarray, np.ndarray, str]:
-    """A bar of a round length (about a quarter of the path's extent) above the path, along
-    its main direction, and its label with the display unit."""
+    """A bar of a round length (about a quarter of the path's extent) beside the path, along
+    its main direction, and its label with the display unit. Beside means 'above' where the
+    path's plane holds the up direction (a landing, a reentry); where the plane is level (an
+    orbit seen from above) it is the plane's other direction, so the bar never lies on the
+    path in a plan view."""
     pts = g.points if len(g.points) else g.center[None]
     up = _view_up(g)
-    along = _plane_axes(pts)[0]
-    along = along - along.dot(up) * up
+    axes = _plane_axes(pts)
+    side = up - up.dot(axes[2]) * axes[2]
+    if np.linalg.norm(side) < 0.5:
+        side = np.cross(up, axes[0])
+        side = side if np.linalg.norm(side) > 1e-9 else axes[1]
+    side /= np.linalg.norm(side)
+    along = axes[0] - axes[0].dot(side) * side
     if np.linalg.norm(along) < 1e-9:
-        along = np.cross(up, [0.0, 0.0, 1.0]) if abs(up[2]) < 0.9 else np.array([1.0, 0, 0])
+        along = np.cross(side, [0.0, 0.0, 1.0]) if abs(side[2]) < 0.9 else np.array([1.0, 0, 0])
     along /= np.linalg.norm(along)
     length = nice_length(0.25 * g.extent)
-    height = float(np.max((pts - g.center) @ up)) + 0.12 * g.extent
-    middle = g.center + height * up
+    height = float(np.max((pts - g.center) @ side)) + 0.12 * g.extent
+    middle = g.center + height * side
     return middle - 0.5 * length * along, middle + 0.5 * length * along, f"{length:g} {g.unit}"
 
 

@@ -183,8 +183,12 @@ class SceneView:
             self.remove_vehicle()
             self._load_vehicle(vehicle)
         if size != self._vehicle_size:
-            # The body and the plume are children of the frame: one scale sizes both.
-            self._vehicle["frame"].scale = size
+            # A viser frame's scale sizes only its own axes, not its children: the body and
+            # the plume are scaled themselves (the plume again per throttle in move_vehicle).
+            self._vehicle["body"].scale = size
+            plume = self._vehicle.get("plume")
+            if plume is not None:
+                plume.position = (0.0, 0.0, -0.5 * size)
             force = self._vehicle["force"]
             force.shaft_radius, force.head_radius, force.head_length = (
                 0.06 * size, 0.18 * size, 0.4 * size)
@@ -234,7 +238,7 @@ class SceneView:
         if plume is not None:
             plume.visible = pose.throttle > 1e-3
             if plume.visible:
-                plume.scale = (1.0, 1.0, 0.4 + 1.2 * pose.throttle)
+                plume.scale = (size, size, size * (0.4 + 1.2 * pose.throttle))
         force = self._vehicle["force"]
         magnitude = float(np.linalg.norm(pose.force))
         force.visible = magnitude > 1e-3

@@ -257,6 +257,12 @@ def test_live_view_stays_bounded_over_many_resolves():
             time.sleep(0.05)
         assert np.linalg.norm(view.scene.vehicle_position - p0) > 0
         assert "altitude above Moon" in view.play.readout.content
+        # The vehicle is drawn 3.5 % of the path long: the scale sits on the meshes (a
+        # viser frame's scale does not reach its children in the page).
+        from explorer.scene import VEHICLE_FRACTION
+        size = VEHICLE_FRACTION * view.geometry.extent
+        body = view.scene._vehicle["body"]
+        assert np.allclose(body.scale, size) and size < 0.1 * view.geometry.extent
         assert threading.active_count() < 200
         view.close()
     finally:
