@@ -13,32 +13,20 @@ from __future__ import annotations
 import json
 import re
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 import pytest
+from browser_support import BROWSER, HEIGHT, WIDTH, until
 
-from explorer.capture import CHROMIUM
-
-pytestmark = [
-    pytest.mark.browser,
-    pytest.mark.skipif(not Path(CHROMIUM).exists(),
-                       reason=f"{CHROMIUM} is missing (apt-get install chromium)"),
-]
+pytestmark = BROWSER
 pytest.importorskip("playwright.sync_api", reason="Python Playwright is not installed")
 
 TF_PAPER = 398.03868  # s, paper 002 table 1
-WIDTH, HEIGHT = 1280, 800
 TF_RE = re.compile(r"final time ([\d.]+) s")
 
 
-def _until(condition: Callable[[], object], what: str, timeout: float = 60.0) -> object:
-    deadline = time.monotonic() + timeout
-    while not (value := condition()):
-        assert time.monotonic() < deadline, f"timed out waiting for {what}"
-        time.sleep(0.1)
-    return value
 
 
 def _tf(page) -> float:
@@ -130,35 +118,6 @@ def test_capture_all_draws_every_mission(tmp_path):  # about 45 s: every mission
         _check_shot(tmp_path / f"{key}.png", key, shot)
 
 
-@pytest.fixture(scope="module")
-def app() -> Iterator:
-    from explorer.app import ExplorerApp
-    from explorer.capture import chromium, free_port
-
-    server = ExplorerApp("127.0.0.1", free_port(), "lunar-landing", "hermite-simpson")
-    with chromium(WIDTH, HEIGHT) as context:
-        server.context = context
-        yield server
-    server.stop()
-
-
-@pytest.fixture()
-def tab(app):
-    """A new tab on the shared app, closed after the test."""
-    from explorer.capture import open_tab
-
-    pages = []
-
-    def open_one():
-        page, view = open_tab(app, app.context)
-        pages.append(page)
-        return page, view
-
-    yield open_one
-    for page in pages:
-        page.close()
-
-
 def test_two_tabs_have_their_own_sessions_and_an_infeasible_request_is_explained(tab):
     page, view = tab()
     other_page, other = tab()
@@ -166,7 +125,7 @@ def test_two_tabs_have_their_own_sessions_and_an_infeasible_request_is_explained
     tf0 = _tf(page)
     assert tf0 == pytest.approx(TF_PAPER, abs=0.01)
     _click_slider(page, "thrust F [N]", 0.3, lambda: view.session.values["thrust"] != 2000.0)
-    tf = _until(lambda: (v := _tf(page)) != pytest.approx(tf0, abs=1e-3) and v,
+    tf = until(lambda: (v := _tf(page)) != pytest.approx(tf0, abs=1e-3) and v,
                 "a new final time in the status line")
     assert view.session.wait_idle(60.0)
     shown = _slider_value(page, "thrust F [N]")
@@ -183,16 +142,16 @@ def test_two_tabs_have_their_own_sessions_and_an_infeasible_request_is_explained
     # An impossible request in the other tab: 10 N cannot hold 600 kg on the Moon. The
     # page says why, keeps the last good trajectory (dimmed), and the first tab still solves.
     _slider_key(other_page, "thrust F [N]", "Home")
-    assert _until(lambda: other.session.values["thrust"] == 10.0 and other.session.wait_idle(60)
+    assert until(lambda: other.session.values["thrust"] == 10.0 and other.session.wait_idle(60)
                   and other.session.latest.status == "infeasible", "the infeasible answer")
     other_page.get_by_text("thrust-to-weight below 1").first.wait_for(timeout=30e3)
     other_page.get_by_text("last good trajectory (dimmed)").first.wait_for(timeout=30e3)
     assert other.session.last_good.values["thrust"] == 2000.0
     _slider_key(page, "thrust F [N]", "Home")  # 10 N too: the first tab answers as well
     _slider_key(page, "thrust F [N]", "End")  # 20 kN: a much faster descent
-    _until(lambda: view.session.wait_idle(60) and view.session.values["thrust"] == 20000.0
+    until(lambda: view.session.wait_idle(60) and view.session.values["thrust"] == 20000.0
            and view.session.latest.ok, "the first tab to solve the 20 kN case")
-    _until(lambda: _tf(page) < 0.2 * tf0, "the first tab's page to show the 20 kN descent")
+    until(lambda: _tf(page) < 0.2 * tf0, "the first tab's page to show the 20 kN descent")
 
 
 def test_method_and_node_count_change_the_scene_and_status(tab):
@@ -200,13 +159,13 @@ def test_method_and_node_count_change_the_scene_and_status(tab):
     segments = view.geometry.segments.copy()
     page.get_by_role("combobox", name="method").click()
     page.get_by_role("option", name="Direct multiple shooting (paper 004)").click()
-    _until(lambda: view.session.method == "multiple-shooting" and view.session.wait_idle(60),
+    until(lambda: view.session.method == "multiple-shooting" and view.session.wait_idle(60),
            "the new method's solve")
     page.get_by_text("multiple-shooting/ipopt, 30 nodes").wait_for(timeout=30e3)
     assert view.session.latest.method == "multiple-shooting" and view.session.latest.ok
     # Node count: focus the slider thumb and step it with the keyboard (two steps).
     _slider_key(page, "intervals", "ArrowRight", times=2)
-    _until(lambda: view.session.nodes == 32 and view.session.wait_idle(60),
+    until(lambda: view.session.nodes == 32 and view.session.wait_idle(60),
            "the 32-node solve")
     page.get_by_text("multiple-shooting/ipopt, 32 nodes").wait_for(timeout=30e3)
     assert view.session.latest.nodes == 32
@@ -217,10 +176,9 @@ def test_method_and_node_count_change_the_scene_and_status(tab):
 
 
 def test_animation_moves_the_vehicle(tab):
-    from explorer.capture import close_webgl_toast, settle
+    from explorer.capture import settle
 
     page, view = tab()
-    close_webgl_toast(page)
     page.get_by_role("tab", name="Play").click()
     settle(page, 60.0)
     canvas = {"x": 0.27 * WIDTH, "y": 0, "width": 0.7 * WIDTH, "height": 0.55 * HEIGHT}
@@ -228,10 +186,10 @@ def test_animation_moves_the_vehicle(tab):
     p0 = view.scene.vehicle_position
     page.mouse.click(0.6 * WIDTH, 0.1 * HEIGHT)  # focus the 3D view
     page.keyboard.press("Space")  # the play/pause hotkey
-    _until(lambda: view.play.playing, "the animation to start (space)", timeout=20.0)
-    _until(lambda: view.play.t > 0.3 * view.play.track.tf, "the vehicle to fly", timeout=30.0)
+    until(lambda: view.play.playing, "the animation to start (space)", timeout=20.0)
+    until(lambda: view.play.t > 0.3 * view.play.track.tf, "the vehicle to fly", timeout=30.0)
     page.keyboard.press("Space")
-    _until(lambda: not view.play.playing, "the animation to pause (space)", timeout=20.0)
+    until(lambda: not view.play.playing, "the animation to pause (space)", timeout=20.0)
     p1 = view.scene.vehicle_position
     assert np.linalg.norm(p1 - p0) > 0.1 * view.geometry.extent
     settle(page, 60.0)
@@ -242,7 +200,7 @@ def test_animation_moves_the_vehicle(tab):
     assert view.side.figure.layout.shapes[0].x0 == pytest.approx(view.play.t)
     view.play.camera_mode.value = "follow vehicle"
     page.keyboard.press("r")  # the reset-camera hotkey
-    _until(lambda: view.play.camera_mode.value == "overview", "r to reset the camera", 20.0)
+    until(lambda: view.play.camera_mode.value == "overview", "r to reset the camera", 20.0)
 
 
 def test_comparison_shows_a_table(tab):
@@ -282,7 +240,7 @@ def test_shared_mode_mirrors_one_session_to_every_tab(app):
         assert other is view  # one session for the room
         tf0 = _tf(other_page)
         _click_slider(page, "thrust F [N]", 0.3, lambda: view.session.values["thrust"] != 2000)
-        _until(lambda: _tf(other_page) != pytest.approx(tf0, abs=1e-3),
+        until(lambda: _tf(other_page) != pytest.approx(tf0, abs=1e-3),
                "the watching tab to show the new solution")
         assert view.session.wait_idle(60.0)
         shown = view.session.values["thrust"]
@@ -308,13 +266,13 @@ def test_three_tabs_on_different_missions_move_at_the_same_moment(app, tab):
         page, view = tab()
         if view.session.mission.key != key:
             view.session.select_mission(get_mission(key))
-        _until(lambda v=view, k=key: v.session.wait_idle(120) and v.session.latest
+        until(lambda v=view, k=key: v.session.wait_idle(120) and v.session.latest
                and v.session.latest.mission == k and v.session.latest.ok, f"{key} solved")
         opened.append((page, view, label, view.session.latest))
     for page, _, label, _ in opened:  # the three moves, back to back
         _slider_key(page, label, "ArrowRight", times=2)
     for page, view, _, before in opened:
-        _until(lambda v=view, b=before: v.session.wait_idle(120) and v.session.latest is not b
+        until(lambda v=view, b=before: v.session.wait_idle(120) and v.session.latest is not b
                and v.session.latest.ok, f"{view.session.mission.key}'s new optimum")
         sol = view.session.latest
         assert sol.values != before.values and sol.cost.value != before.cost.value

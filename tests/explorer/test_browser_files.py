@@ -9,22 +9,12 @@ import time
 from pathlib import Path
 
 import pytest
+from browser_support import BROWSER, until
 
-from explorer.capture import CHROMIUM
-
-pytestmark = [
-    pytest.mark.browser,
-    pytest.mark.skipif(not Path(CHROMIUM).exists(), reason=f"{CHROMIUM} is missing"),
-]
+pytestmark = BROWSER
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "double_integrator.py"
 
 
-def _until(condition, what: str, timeout: float = 60.0):
-    deadline = time.monotonic() + timeout
-    while not (value := condition()):
-        assert time.monotonic() < deadline, f"timed out waiting for {what}"
-        time.sleep(0.05)
-    return value
 
 
 def test_a_saved_mission_file_reloads_and_a_broken_one_is_reported(tmp_path):
@@ -45,7 +35,7 @@ def test_a_saved_mission_file_reloads_and_a_broken_one_is_reported(tmp_path):
             path.write_text(text.replace('Param("distance", "distance d", "m", 1.0,',
                                          'Param("distance", "distance d", "m", 2.0,'))
             saved = time.monotonic()
-            _until(lambda: view.session.mission is not first, "the reload", timeout=10.0)
+            until(lambda: view.session.mission is not first, "the reload", timeout=10.0)
             assert time.monotonic() - saved < 2.0
             # The tab kept its values (distance 1 m was set in the old version too).
             assert view.session.wait_idle(60.0) and view.session.latest.ok
@@ -58,7 +48,7 @@ def test_a_saved_mission_file_reloads_and_a_broken_one_is_reported(tmp_path):
             from solvers import get_mission
 
             view.session.select_mission(get_mission("lunar-landing"))
-            _until(lambda: view.session.wait_idle(60) and view.session.latest
+            until(lambda: view.session.wait_idle(60) and view.session.latest
                    and view.session.latest.mission == "lunar-landing"
                    and view.session.latest.ok, "a lunar solve after the broken file")
     finally:

@@ -5,78 +5,17 @@ guess gives a convergence worth replaying."""
 
 from __future__ import annotations
 
-import time
-from collections.abc import Callable, Iterator
-from pathlib import Path
-
 import numpy as np
-import pytest
+from browser_support import BROWSER, HEIGHT, WIDTH, until
 
-from explorer.capture import CHROMIUM
-
-pytestmark = [
-    pytest.mark.browser,
-    pytest.mark.skipif(not Path(CHROMIUM).exists(), reason=f"{CHROMIUM} is missing"),
-]
-WIDTH, HEIGHT = 1280, 800
+pytestmark = BROWSER
 CANVAS = {"x": 0.27 * WIDTH, "y": 0.0, "width": 0.73 * WIDTH, "height": 0.6 * HEIGHT}
 
 
-def _until(condition: Callable[[], object], what: str, timeout: float = 60.0) -> object:
-    deadline = time.monotonic() + timeout
-    while not (value := condition()):
-        assert time.monotonic() < deadline, f"timed out waiting for {what}"
-        time.sleep(0.05)
-    return value
-
-
-@pytest.fixture(scope="module")
-def app() -> Iterator:
-    from explorer.app import ExplorerApp
-    from explorer.capture import chromium, free_port
-
-    server = ExplorerApp("127.0.0.1", free_port(), "lunar-landing", "hermite-simpson")
-    with chromium(WIDTH, HEIGHT) as context:
-        server.context = context
-        yield server
-    server.stop()
-
-
-@pytest.fixture()
-def tab(app):
-    from explorer.capture import close_webgl_toast, open_tab
-
-    pages = []
-
-    def open_one(url_query: str = ""):
-        page = app.context.new_page()
-        with app._lock:
-            before = set(app.views)
-        if url_query:  # open_tab navigates to the app's address; this one carries a case
-            page.goto(f"{app.url}/?{url_query}")
-            page, view = _attach(app, page, before)
-        else:
-            page, view = open_tab(app, app.context, page=page)
-        close_webgl_toast(page, timeout=3.0)
-        pages.append(page)
-        return page, view
-
-    yield open_one
-    for page in pages:
-        page.close()
-
-
-def _attach(app, page, before: set[int]):
-    """The view of a page that is already open (the one connected after `before`)."""
-    new = _until(lambda: set(app.views) - before, "the new tab's view")
-    with app._lock:
-        view = app.views[min(new)]
-    _until(lambda: view.session.wait_idle(60) and view.drawn, "the first drawing")
-    return page, view
 
 
 def _solved(view, key: str | None = None) -> None:
-    _until(lambda: view.session.wait_idle(120) and view.session.latest is not None
+    until(lambda: view.session.wait_idle(120) and view.session.latest is not None
            and view.session.latest.ok
            and (key is None or view.session.latest.mission == key), "an optimal answer")
 
@@ -113,7 +52,7 @@ def test_the_camera_frames_the_path_when_its_scale_changes(tab):
     _solved(view, "elliptic-transfer")
     for x0 in (10.0, 10e3):  # 10 m, then back to 10 km
         view.session.set_value("x0", x0)
-        _until(lambda x=x0: view.session.wait_idle(60) and view.session.latest.values["x0"] == x
+        until(lambda x=x0: view.session.wait_idle(60) and view.session.latest.values["x0"] == x
                and view.drawn, f"x0 = {x0} m drawn")
         width, height = _path_box(page, view)
         assert max(width, height) > 0.3, f"x0 = {x0} m: the path covers only {width:.2f} x " \
@@ -128,7 +67,7 @@ def test_the_inertial_cw_view_is_drawn(tab):
     _solved(view, "cw-rendezvous")
     drawn = view.drawn
     view.session.set_view("view", 1)  # inertial (magnified): redrawn, not re-solved
-    _until(lambda: view.drawn > drawn, "the inertial view")
+    until(lambda: view.drawn > drawn, "the inertial view")
     assert view.presentation.frame.startswith("inertial")
     width, height = _path_box(page, view)
     assert max(width, height) > 0.1, "the inertial view shows no path"
@@ -150,13 +89,13 @@ def test_typed_values_are_parsed_and_refused_in_words(tab):
     box = _box_with(page, "2000")  # thrust F [N]
     box.scroll_into_view_if_needed()
     box.fill("1e4")
-    _until(lambda: view.session.values["thrust"] == 10000.0, "1e4 to be taken as 10000")
+    until(lambda: view.session.values["thrust"] == 10000.0, "1e4 to be taken as 10000")
     _solved(view)
     box.fill("50000")  # the range ends at 20000 N: refused, not clamped
     page.get_by_text("outside the allowed range").first.wait_for(timeout=15e3)
     page.get_by_text("20000 N").first.wait_for(timeout=5e3)
     assert view.session.values["thrust"] == 10000.0
-    _until(lambda: box.input_value() == "10000", "the old value back in the box")
+    until(lambda: box.input_value() == "10000", "the old value back in the box")
     box.fill("abc")
     page.get_by_text("'abc' is not a number").first.wait_for(timeout=15e3)
     assert view.session.values["thrust"] == 10000.0
@@ -167,11 +106,11 @@ def test_the_address_restores_the_case_in_a_new_tab(tab):
     _solved(view)
     view.session.set_nodes(36)
     view.session.set_value("mass0", 700.0)
-    address = _until(lambda: (href := page.evaluate("() => location.href"))
+    address = until(lambda: (href := page.evaluate("() => location.href"))
                      and "v.mass0=700" in href and "nodes=36" in href and href, "the address")
     query = address.split("?", 1)[1]
     other_page, other = tab(query)
-    _until(lambda: other.session.values["mass0"] == 700.0 and other.session.nodes == 36,
+    until(lambda: other.session.values["mass0"] == 700.0 and other.session.nodes == 36,
            "the case restored from the link")
     _solved(other)
     assert other.session.latest.values["mass0"] == 700.0 and other is not view
@@ -187,12 +126,12 @@ def test_a_solve_from_the_initial_guess_gives_a_convergence_to_replay(tab):
     preset = next(p for p in mission.presets if "T0 = 5" in p.name)
     assert preset.cold
     view.session.apply_preset(preset)
-    _until(lambda: view.session.wait_idle(60) and view.session.latest.values["T_guess"] == 5.0,
+    until(lambda: view.session.wait_idle(60) and view.session.latest.values["T_guess"] == 5.0,
            "the cold solve from T0 = 5")
     sol = view.session.latest
     assert sol.ok and len(sol.history) > 5 and sol.stats["iterations"] > 5
     page.get_by_role("tab", name="Play").click()
     page.get_by_role("button", name="replay iterations").click()
-    text = _until(lambda: "iterate 6 of" in view.play.replay_text.content
+    text = until(lambda: "iterate 6 of" in view.play.replay_text.content
                   and view.play.replay_text.content, "the replay past five iterates", 30.0)
     assert int(text.split(" of ")[1].split()[0]) > 5
