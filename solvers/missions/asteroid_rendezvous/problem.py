@@ -121,9 +121,13 @@ PUBLISHED = (
               "switches)", rtol=0.0, atol=0.1, relation="at-least",
               methods=("hermite-simpson",), case=DEFAULT_REFINED),
     Published("fuel_spread", 6.0, "%", f"{_SECTION_4}: the three optimised fuels differ < 6 %",
-              "ours 31 %: the multi-revolution guess runs to the 700 d limit and uses 26.3 kg "
-              "(34.3 and 34.6 kg for the others); three 150-segment solves, checked by the slow "
-              "test_optimised_fuels_within_six_percent", relation="at-most", holds=False,
+              "ours 30 % with the paper's set-up (the NLP seeded by each impulsive guess "
+              "itself): 34.3 kg from the two-impulse guess, 26.3 kg from the other two, which "
+              "run to the 700 d limit; three 150-segment solves, checked by the slow "
+              "test_optimised_fuels_within_six_percent. With our default coarse pre-solve the "
+              "three land within 1 % (34.3, 34.6, 34.3 kg), above the 26.3 kg transfer: "
+              "a small spread says the guesses agree, not that the optimum is found",
+              relation="at-most", holds=False,
               checked=False),
     Published("impulsive_dv_spread", 58.0, "%",
               f"{_SECTION_4}: the three impulsive guesses differ by up to 58 % in Δv",
