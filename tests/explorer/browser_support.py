@@ -19,7 +19,14 @@ BROWSER = [
 ]
 
 
-def until(condition: Callable[[], object], what: str, timeout: float = 60.0) -> object:
+# How long a browser test waits for a condition (s, and ms for Playwright). Generous: a test
+# waits for what it needs and no longer, so only a loaded machine (software WebGL on two busy
+# cores) ever comes near it.
+PATIENCE = 120.0
+PATIENCE_MS = PATIENCE * 1e3
+
+
+def until(condition: Callable[[], object], what: str, timeout: float = PATIENCE) -> object:
     """Poll `condition` until it is truthy (returned) or `timeout` s pass (a failure naming
     `what`)."""
     deadline = time.monotonic() + timeout

@@ -6,17 +6,21 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 import pytest
-from browser_support import HEIGHT, WIDTH, until
+from browser_support import HEIGHT, PATIENCE_MS, WIDTH, until
 
 
 @pytest.fixture(scope="module")
 def app() -> Iterator:
     pytest.importorskip("playwright.sync_api", reason="Python Playwright is not installed")
     from explorer.app import ExplorerApp
-    from explorer.capture import chromium, free_port
+    from explorer.capture import CAPTURE_TIME_LIMIT, chromium, free_port
 
-    server = ExplorerApp("127.0.0.1", free_port(), "lunar-landing", "hermite-simpson")
+    # The screenshot's time limit, not the live 5 s: on a loaded machine a cold build may take
+    # longer, and these tests are about what the page shows, not how fast.
+    server = ExplorerApp("127.0.0.1", free_port(), "lunar-landing", "hermite-simpson",
+                         time_limit=CAPTURE_TIME_LIMIT)
     with chromium(WIDTH, HEIGHT) as context:
+        context.set_default_timeout(PATIENCE_MS)
         server.context = context
         yield server
     server.stop()

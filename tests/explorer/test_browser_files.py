@@ -9,7 +9,7 @@ import time
 from pathlib import Path
 
 import pytest
-from browser_support import BROWSER, until
+from browser_support import BROWSER, PATIENCE, PATIENCE_MS, until
 
 pytestmark = BROWSER
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "double_integrator.py"
@@ -19,11 +19,12 @@ EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "double_integrator.
 
 def test_a_saved_mission_file_reloads_and_a_broken_one_is_reported(tmp_path):
     from explorer.app import ExplorerApp
-    from explorer.capture import chromium, free_port, open_tab
+    from explorer.capture import CAPTURE_TIME_LIMIT, chromium, free_port, open_tab
 
     path = tmp_path / "my_problem.py"
     shutil.copy(EXAMPLE, path)
-    app = ExplorerApp("127.0.0.1", free_port(), "double-integrator", mission_files=(str(path),))
+    app = ExplorerApp("127.0.0.1", free_port(), "double-integrator", mission_files=(str(path),),
+                      time_limit=CAPTURE_TIME_LIMIT)
     try:
         with chromium() as context:
             page, view = open_tab(app, context)
@@ -35,14 +36,14 @@ def test_a_saved_mission_file_reloads_and_a_broken_one_is_reported(tmp_path):
             path.write_text(text.replace('Param("distance", "distance d", "m", 1.0,',
                                          'Param("distance", "distance d", "m", 2.0,'))
             saved = time.monotonic()
-            until(lambda: view.session.mission is not first, "the reload", timeout=10.0)
+            until(lambda: view.session.mission is not first, "the reload", timeout=PATIENCE)
             assert time.monotonic() - saved < 2.0
             # The tab kept its values (distance 1 m was set in the old version too).
             assert view.session.wait_idle(60.0) and view.session.latest.ok
             # A syntax error: reported with the file and line, the last good mission stays.
             reloaded = view.session.mission
             path.write_text(text.replace("MISSION = UserMission(", "MISSION = UserMission(("))
-            page.get_by_text("my_problem.py:").first.wait_for(timeout=15e3)
+            page.get_by_text("my_problem.py:").first.wait_for(timeout=PATIENCE_MS)
             assert view.session.mission is reloaded and view.session.latest.ok
             # The explorer keeps serving: another mission still solves in this tab.
             from solvers import get_mission
