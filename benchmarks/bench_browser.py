@@ -4,9 +4,11 @@ For each case a slider thumb of the mission's live parameter is stepped with the
 (as a person would) and the page's own clocks measure the time until the status element
 shows the new optimum; the Long Tasks API sums the page's long tasks from the key press
 until 0.5 s after the new status; viser's sender counts the messages and websocket bytes sent to
-the page for the update. Median over `--repeats`.
+the page for the update. Median over `--repeats`. The floor is measured first in the same
+browser: a bare viser page whose slider writes a markdown line; each case's ratio to it is
+printed.
 
-    python benchmarks/bench_browser.py [--repeats 5] [--case lunar-landing:hermite-simpson]
+    python benchmarks/bench_browser.py [--repeats 7] [--case lunar-landing:hermite-simpson]
 """
 
 from __future__ import annotations
@@ -107,10 +109,61 @@ def measure(page, view, key: str, label: str, repeats: int, frames: Frames) -> l
     return rows
 
 
+FLOOR_OBSERVER = """() => {
+  window.__floor = [];
+  new MutationObserver(() => {
+    const el = [...document.querySelectorAll('p')].find((p) => /^floor \\d+$/.test(p.textContent));
+    if (el) window.__floor.push([performance.now(), el.textContent]);
+  }).observe(document.body, {subtree: true, childList: true, characterData: true});
+}"""
+
+
+def measure_floor(context, repeats: int) -> list[float]:
+    """The floor: a bare `viser.ViserServer` with one slider whose `on_update` writes a
+    markdown line, in the same browser; key press -> new text (ms), as `measure` times ours."""
+    import viser
+
+    from explorer.capture import close_webgl_toast, free_port
+
+    server = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)
+    try:
+        slider = server.gui.add_slider("floor value", min=0, max=100, step=1, initial_value=50)
+        text = server.gui.add_markdown("floor 50")
+
+        @slider.on_update
+        def _(_event) -> None:
+            text.content = f"floor {slider.value:g}"
+
+        page = context.new_page()
+        page.goto(f"http://127.0.0.1:{server.get_port()}")
+        page.get_by_text("floor 50").wait_for(timeout=120e3)
+        close_webgl_toast(page)
+        page.evaluate(FLOOR_OBSERVER)
+        slider_id = page.locator("label", has_text="floor value").first.get_attribute("for")
+        thumb = page.locator(f'[id="{slider_id}"]').get_by_role("slider")
+        times = []
+        for k in range(repeats):
+            page.evaluate("() => { window.__floor = []; }")
+            value = 51 if k % 2 == 0 else 50
+            thumb.focus()
+            t0 = page.evaluate("() => performance.now()")
+            page.keyboard.press("ArrowRight" if k % 2 == 0 else "ArrowLeft")
+            page.wait_for_function(
+                f"() => window.__floor.some(([t, c]) => c === 'floor {value}')", timeout=60e3)
+            shown = page.evaluate(
+                f"() => window.__floor.find(([t, c]) => c === 'floor {value}')[0]")
+            times.append(shown - t0)
+            time.sleep(0.3)
+        page.close()
+        return times
+    finally:
+        server.stop()
+
+
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--repeats", type=int, default=7)
     parser.add_argument("--case", action="append", help="MISSION:METHOD (repeatable)")
     parser.add_argument("--gpu-process", action="store_true",
                         help="composite the (software) WebGL in the GPU process, as a browser "
@@ -125,10 +178,12 @@ def main(argv: list[str] | None = None) -> None:
 
     app = ExplorerApp("127.0.0.1", free_port())
     app.service.wait_prebuilt()  # measure the classroom after start-up, not during it
-    print(f"{'mission':20s} {'method':18s} {'input→status ms':>16s} {'long tasks ms':>14s} "
-          f"{'messages':>9s} {'kB':>7s}", flush=True)
     try:
         with chromium(1280, 800, gpu_process=args.gpu_process) as context:
+            floor = statistics.median(measure_floor(context, args.repeats))
+            print(f"floor (bare viser page, slider -> markdown): {floor:.0f} ms", flush=True)
+            print(f"{'mission':20s} {'method':18s} {'input→status ms':>16s} {'× floor':>8s} "
+                  f"{'long tasks ms':>14s} {'messages':>9s} {'kB':>7s}", flush=True)
             frames = Frames()
             page, view = open_tab(app, context)
             close_webgl_toast(page)
@@ -148,8 +203,8 @@ def main(argv: list[str] | None = None) -> None:
                 long_ms = statistics.median(r[1] for r in rows)
                 msgs = statistics.median(r[2] for r in rows)
                 kb = statistics.median(r[3] for r in rows) / 1e3
-                print(f"{key:20s} {method:18s} {lat:16.0f} {long_ms:14.0f} {msgs:9.0f} "
-                      f"{kb:7.0f}", flush=True)
+                print(f"{key:20s} {method:18s} {lat:16.0f} {lat / floor:8.1f} "
+                      f"{long_ms:14.0f} {msgs:9.0f} {kb:7.0f}", flush=True)
     finally:
         app.stop()
 

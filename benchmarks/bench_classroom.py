@@ -7,6 +7,13 @@ workers.
 
     python benchmarks/bench_classroom.py [--sessions 30] [--asteroid 2] [--duration 60]
                                          [--period 3] [--workers N]
+    python benchmarks/bench_classroom.py --presenter [--sessions 30] [--explore 10] ...
+
+`--presenter` measures the classroom mode instead (`explorer.room`): one teacher view moving
+the lunar landing's thrust every `--period` s, `--sessions` followers (server-side
+`RoomView`s) of which `--explore` have branched off and move their own thrust; it prints the
+teacher's move-to-drawn latency, the delay from the teacher's picture to each follower's
+(p50/p95/max), the explorers' latency, the server's CPU use and memory.
 
 The same script runs on the code before the solve service (no `explorer.view`: every solve
 in the server process), which is how the README's before/after table was made.
@@ -114,6 +121,102 @@ def hammer(view, clock: Clock, stop: threading.Event) -> None:
         clock.done.wait(120.0)
 
 
+class Drawn:
+    """Stamps when a view has drawn a solution (a listener after the view)."""
+
+    def __init__(self) -> None:
+        self.at: dict[int, float] = {}  # id(solution) -> time drawn
+
+    def on_result(self, request, solution) -> None:
+        self.at[id(solution)] = time.perf_counter()
+
+
+def percentiles(xs: list[float]) -> str:
+    if not xs:
+        return f"{'-':>8s} {'-':>8s} {'-':>8s}"
+    xs = sorted(xs)
+    p95 = xs[min(len(xs) - 1, int(0.95 * len(xs)))]
+    return f"{1e3 * statistics.median(xs):8.0f} {1e3 * p95:8.0f} {1e3 * xs[-1]:8.0f}"
+
+
+def presenter(args, server, missions, runner, service) -> None:
+    """The classroom mode: one teacher, followers sharing its solves, some explorers."""
+    from explorer.room import Room
+    from explorer.room_view import RoomView
+    from explorer.view import View
+    from solvers import get_mission
+
+    mission = get_mission("lunar-landing")
+    teacher = View(server.gui, server.scene, server.atomic, missions, mission, runner=runner,
+                   scene_root="/teacher")
+    teacher.session.wait_idle(600.0)
+    room = Room(teacher.session)  # the room follows the teacher's session (no tab)
+    followers = []
+    wall0 = time.perf_counter()
+    for i in range(args.sessions):
+        view = RoomView(server.gui, server.scene, server.atomic, missions, mission, None, None,
+                        5.0, runner, room=room, member_id=i, room_url="",
+                        claim=lambda v, k: None, scene_root=f"/student{i}")
+        followers.append(view)
+    for view in followers:
+        until_drawn = time.monotonic() + 120.0
+        while view.drawn == 0 and time.monotonic() < until_drawn:
+            time.sleep(0.05)
+    print(f"{len(followers)} followers drawn in {time.perf_counter() - wall0:.1f} s", flush=True)
+    explorers = followers[:args.explore]
+    for view in explorers:
+        view.room_session.branch()
+    teacher_clock, stamps = Clock(), []
+    teacher.session.listeners.append(teacher_clock)
+    teacher_drawn = Drawn()
+    teacher.session.listeners.append(teacher_drawn)
+    for view in followers[args.explore:]:
+        stamps.append(Drawn())
+        view.session.listeners.append(stamps[-1])
+    clocks, stop, rng = [], threading.Event(), random.Random(args.seed)
+    moves = int(args.duration / args.period)
+    threads = [threading.Thread(target=drive, daemon=True, args=(
+        teacher, teacher_clock, "thrust", moves, args.period, 0.0, stop, rng))]
+    for view in explorers:
+        clock = Clock()
+        view.session.listeners.append(clock)
+        clocks.append(clock)
+        threads.append(threading.Thread(target=drive, daemon=True, args=(
+            view, clock, "thrust", moves, args.period, rng.uniform(0.0, args.period), stop,
+            random.Random(rng.random()))))
+    cpu0, wall0 = time.process_time(), time.perf_counter()
+    for t in threads:
+        t.start()
+    time.sleep(args.duration + args.period)
+    stop.set()
+    teacher.session.wait_idle(60.0)
+    time.sleep(2.0)  # the last relays
+    cpu = (time.process_time() - cpu0) / (time.perf_counter() - wall0)
+    delays, missed = [], 0
+    for sol_id, t_teacher in teacher_drawn.at.items():
+        for stamp in stamps:
+            if sol_id in stamp.at:
+                delays.append(stamp.at[sol_id] - t_teacher)
+            else:
+                missed += 1
+    print(f"{'':34s} {'n':>5s} {'p50 ms':>8s} {'p95 ms':>8s} {'max ms':>8s}")
+    print(f"{'teacher move -> teacher drawn':34s} {len(teacher_clock.latencies):5d} "
+          f"{percentiles(teacher_clock.latencies)}")
+    print(f"{'teacher drawn -> follower drawn':34s} {len(delays):5d} {percentiles(delays)}"
+          f"  ({missed} pictures skipped)")
+    lat = [x for c in clocks for x in c.latencies]
+    print(f"{'explorer move -> drawn':34s} {len(lat):5d} {percentiles(lat)}")
+    memory = (f"server CPU {100 * cpu:.0f} % of a core, {resident_mb():.0f} MB "
+              f"(peak {peak_mb():.0f})")
+    if service is not None:
+        workers = [resident_mb(pid) for pid in service.pids()]
+        memory += f", workers {' + '.join(f'{w:.0f}' for w in workers)} MB"
+    print(memory, flush=True)
+    for view in [teacher, *followers]:
+        view.close()
+    room.close()
+
+
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -125,6 +228,10 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--node-moves", action="store_true",
                         help="move node counts (a new NLP each) instead of a parameter")
+    parser.add_argument("--presenter", action="store_true",
+                        help="the classroom mode: one teacher, --sessions followers")
+    parser.add_argument("--explore", type=int, default=0,
+                        help="with --presenter: followers that explore on their own")
     args = parser.parse_args(argv)
 
     import viser
@@ -144,6 +251,12 @@ def main(argv: list[str] | None = None) -> None:
         pass
     missions = list_missions()
     server = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)
+    if args.presenter:
+        presenter(args, server, missions, runner, service)
+        server.stop()
+        if service is not None:
+            service.close()
+        return
     views, clocks = [], defaultdict(list)
     started = time.perf_counter()
     for i in range(args.sessions):

@@ -7,7 +7,8 @@ on the R-bar in 20 minutes with the least ∫|a|²/2, in the target's orbital fr
 Left to itself the least-effort path cuts the corner, 422 m from the target; safety rules
 keep the chaser outside a sphere around it (800 m by default, a slider), so the optimal
 path bends around the sphere and slides along its surface: the clearance constraint is
-active on an arc, and the effort rises by half.
+active on an arc, and the effort rises by half. In the explorer the sphere is drawn and its
+centre is dragged by hand (the zone's centre is two parameters): the path re-solves around it.
 
     python -m solvers solve keep-out-rendezvous --mission-file examples/keep_out_rendezvous.py
 """
@@ -16,6 +17,7 @@ import math
 
 from casadi import sqrt
 
+from solvers.handles import Sphere
 from solvers.userproblem import (
     HERMITE_SIMPSON,
     MULTIPLE_SHOOTING,
@@ -36,6 +38,8 @@ MISSION = UserMission(
     summary="From the V-bar to the R-bar of a target without entering its keep-out zone.",
     source="Clohessy–Wiltshire relative motion; keep-out zone as a path constraint",
     params=(Param("keep_out", "keep-out radius", "m", 800.0, 100.0, 950.0, 10.0),
+            Param("zone_x", "keep-out centre, radial x", "m", 0.0, -1000.0, 1000.0, 10.0),
+            Param("zone_y", "keep-out centre, along-track y", "m", 0.0, -1000.0, 1000.0, 10.0),
             Param("duration", "transfer time", "s", 1200.0, 600.0, 3000.0, 60.0,
                   display_unit="min", display_factor=1 / 60)),
     states=(
@@ -51,10 +55,13 @@ MISSION = UserMission(
                               3 * N**2 * x.x + 2 * N * x.vy + u.ax,
                               -2 * N * x.vx + u.ay],
     lagrange=lambda x, u, p: 0.5 * (u.ax**2 + u.ay**2),
-    path=(PathConstraint("clearance", lambda x, u, p: sqrt(x.x**2 + x.y**2) - p.keep_out,
-                         lower=0.0, unit="m", scale=100.0),),
+    path=(PathConstraint("clearance",
+                         lambda x, u, p: sqrt((x.x - p.zone_x)**2 + (x.y - p.zone_y)**2)
+                         - p.keep_out, lower=0.0, unit="m", scale=100.0),),
     final_time="duration",
     position=("y", "x"),  # drawn with along-track across and radial up the screen
+    # The zone in the same display frame (along-track, radial, 0): drag its centre.
+    shapes=(Sphere("keep-out", "keep-out zone", ("zone_y", "zone_x", 0.0), "keep_out"),),
     cost_unit="m²/s³",
     cost_scale=1e-4,
     methods=(HERMITE_SIMPSON.replace(nodes=(10, 60, 300)),

@@ -1,9 +1,12 @@
 """The viser app: one server, one `View` per browser tab (or one shared by every tab with
-`shared=True`: the teacher drives, the room watches, and a slider moved in any tab moves in
-all of them), every solve on the solve service's worker processes."""
+`shared=True`: a slider moved in any tab moves in all of them; or, with `classroom=True`, a
+`RoomView` per tab in one `Room`: the tab opened with the teacher's key drives and the others
+follow, explore on their own and rejoin), every solve on the solve service's worker
+processes."""
 
 from __future__ import annotations
 
+import secrets
 import threading
 from pathlib import Path
 
@@ -14,9 +17,13 @@ from solvers.mission import Mission
 from solvers.service import SolveService
 
 from .reload import MissionFiles
+from .room import Room
+from .room_view import RoomView
 from .runners import Runner, ServiceRunner
-from .session import DEFAULT_TIME_LIMIT
+from .session import DEFAULT_TIME_LIMIT, Session
 from .view import View, apply_theme
+
+START_LIMIT = 60.0  # s: the classroom's start-up solve
 
 
 class ExplorerApp:
@@ -27,10 +34,15 @@ class ExplorerApp:
                  verbose: bool = False, shared: bool = False,
                  time_limit: float | None = DEFAULT_TIME_LIMIT,
                  runner: Runner | None = None, workers: int | None = None,
-                 prebuild: bool = True, mission_files: tuple[str, ...] = ()) -> None:
+                 prebuild: bool = True, mission_files: tuple[str, ...] = (),
+                 classroom: bool = False, teacher_secret: str | None = None) -> None:
         """`workers` solve processes (default one per core) run every solve, unless a
         `runner` is given (tests of missions that live only in the test). `mission_files`
-        (files or folders) add users' missions, reloaded when saved."""
+        (files or folders) add users' missions, reloaded when saved. `classroom`: the
+        presenter mode, driven from `teacher_url` (`teacher_secret`, default a random
+        one)."""
+        if classroom and shared:
+            raise ValueError("--classroom and --shared are two different modes: choose one")
         self.views: dict[int, View] = {}
         self._lock = threading.Condition()
         self.files = MissionFiles(mission_files, self._reloaded, self._file_error)
@@ -50,6 +62,16 @@ class ExplorerApp:
             runner = ServiceRunner(self.service)
         self.runner = runner
         self.shared = shared
+        self.room: Room | None = None
+        self.teacher_secret = (teacher_secret or secrets.token_urlsafe(16)) if classroom \
+            else None
+        if classroom:  # the start-up case, solved once for the room (workers may still be
+            # building their first NLP: a longer limit than a slider move's)
+            start = Session(self.mission, method=method, nodes=nodes, runner=self.runner,
+                            time_limit=None if time_limit is None
+                            else max(time_limit, START_LIMIT))
+            self.room = Room(start)
+            start.submit()
         self.server = viser.ViserServer(host=host, port=port, label="Trajectory explorer",
                                         verbose=verbose)
         apply_theme(self.server.gui, dark=True)
@@ -67,8 +89,32 @@ class ExplorerApp:
     def url(self) -> str:
         return f"http://{self.server.get_host()}:{self.server.get_port()}"
 
+    @property
+    def teacher_url(self) -> str:
+        """The link that drives a classroom (empty outside the presenter mode)."""
+        return f"{self.url}/?teacher={self.teacher_secret}" if self.teacher_secret else ""
+
+    def _room_view(self, client: viser.ClientHandle) -> RoomView:
+        assert self.room is not None
+        return RoomView(client.gui, client.scene, client.atomic, self.missions, self.mission,
+                        self.method, self.nodes, self.time_limit, self.runner, room=self.room,
+                        member_id=client.client_id, room_url=f"{self.url}/",
+                        claim=self._claim)
+
+    def _claim(self, view: RoomView, key: str) -> None:
+        """A page says it was opened with the teacher's key: it drives if the key is right."""
+        secret = self.teacher_secret
+        if self.room is None or secret is None or len(key) > 4 * len(secret) \
+                or not secrets.compare_digest(key.encode(), secret.encode()):
+            view.refuse("this is not the teacher's link", "you follow the room as a student")
+            return
+        self.room.promote(view.member_id)
+
     def _connect(self, client: viser.ClientHandle) -> None:
-        view = self.shared_view or self._view(client.gui, client.scene, client.atomic)
+        if self.room is not None:
+            view: View = self._room_view(client)
+        else:
+            view = self.shared_view or self._view(client.gui, client.scene, client.atomic)
         view.attach(client)
         for path, message in self.files.errors.items():
             client.add_notification(f"mission file {Path(path).name}", message, color="red")
@@ -81,6 +127,8 @@ class ExplorerApp:
             view = self.views.pop(client.client_id, None)
         if view is None:
             return
+        if self.room is not None:
+            self.room.leave(client.client_id)
         view.detach(client)
         if view is not self.shared_view:
             view.close()
@@ -125,6 +173,8 @@ class ExplorerApp:
             views.add(self.shared_view)
         for view in views:
             view.close()
+        if self.room is not None:
+            self.room.close()
         self.files.stop()
         self.server.stop()
         if self.service is not None:

@@ -47,9 +47,19 @@ def _plane_axes(pts: np.ndarray) -> np.ndarray:
     return np.eye(3)
 
 
+def plot_view(g: Geometry) -> np.ndarray:
+    """Direction towards a camera that sees a 2-D plot's plane as a plot: display x to the
+    right and the scene's up (display y) up, i.e. from +z."""
+    view = np.cross([1.0, 0.0, 0.0], g.scene_up)
+    return view / np.linalg.norm(view) if np.linalg.norm(view) > 1e-9 else np.array([0, 0, 1.0])
+
+
 def top_view(g: Geometry) -> np.ndarray:
     """Direction from the path towards a camera looking straight at its plane (the plan
-    view), from the side 'up' points to when the plane is vertical."""
+    view), from the side 'up' points to when the plane is vertical; a 2-D plot's own
+    (`plot_view`)."""
+    if g.plan:
+        return plot_view(g)
     pts = g.points if len(g.points) else g.center[None]
     normal = _plane_axes(pts)[-1]
     ref = g.scene_up if abs(normal.dot(g.scene_up)) > 1e-6 else _view_up(g)
@@ -62,7 +72,10 @@ def fit_camera(g: Geometry, aspect: float = 1.0, bottom: float = 0.0,
     behind its start, `OBLIQUE` off the plane normal, `ELEVATION` above the plane), or from
     the direction `view` if given, just far enough that every point is inside a canvas of
     width/height `aspect` whose lowest `bottom` fraction is covered (by a floating panel).
-    'Up' is `_view_up`, made perpendicular to the line of sight."""
+    'Up' is `_view_up`, made perpendicular to the line of sight. A 2-D plot (`Geometry.plan`)
+    is seen straight on, x to the right and y up."""
+    if view is None and g.plan:
+        view = plot_view(g)
     up = _view_up(g)
     pts = g.points if len(g.points) else g.center[None]
     framed = np.concatenate([pts, g.arrows.reshape(-1, 3), np.stack(scale_bar(g)[:2])]
@@ -78,9 +91,12 @@ def fit_camera(g: Geometry, aspect: float = 1.0, bottom: float = 0.0,
             up = along - along.dot(view) * view
         up /= np.linalg.norm(up)
     elif np.linalg.norm(side) < 0.3:
-        # The trajectory lies across 'up' (e.g. an orbit seen from above): look down at it.
-        ref = np.array([1.0, 0.0, 0.0]) if abs(up[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-        side = ref - ref.dot(up) * up
+        # The trajectory lies across 'up' (e.g. an orbit or a ground plane seen from above):
+        # look down at it from the side that puts display x to the right (from -y when up
+        # is +z, as a map is read: x right, y away).
+        side = np.cross([1.0, 0.0, 0.0], up)
+        if np.linalg.norm(side) < 0.3:
+            side = np.array([0.0, 1.0, 0.0]) - up[1] * up
         view = 0.55 * side / np.linalg.norm(side) + 0.85 * up
     else:
         side /= np.linalg.norm(side)

@@ -74,7 +74,9 @@ class Geometry:
     curve_segments: np.ndarray  # (C, 2, 3) all reference curves in one batch
     curve_colors: np.ndarray  # (C, 2, 3) uint8
     spheres: list[Sphere] = field(default_factory=list)
-    markers: list[tuple[str, np.ndarray, tuple[int, int, int]]] = field(default_factory=list)
+    # (label, position, colour, whether a point is drawn, label anchor)
+    markers: list[tuple[str, np.ndarray, tuple[int, int, int], bool, str]] = field(
+        default_factory=list)
     center: np.ndarray = field(default_factory=lambda: np.zeros(3))
     extent: float = 1.0
     points: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))  # trajectory
@@ -83,6 +85,9 @@ class Geometry:
     times: np.ndarray = field(default_factory=lambda: np.zeros(0))  # Solution.t
     unit: str = "m"
     curve_names: list[tuple[str, tuple[int, int, int], bool]] = field(default_factory=list)
+    arrow_name: str = "thrust direction"
+    arc_names: dict[str, str] = field(default_factory=dict)
+    plan: bool = False  # the default camera looks straight at the path's plane
 
 
 def colormap(values: np.ndarray, lo: float, hi: float) -> np.ndarray:
@@ -181,14 +186,16 @@ def build_geometry(pres: Presentation, t: np.ndarray, arcs: list[tuple[float, fl
             track = np.asarray(body.track, float) * scale
         spheres.append(Sphere(body.name, np.asarray(body.center, float) * scale, radius,
                               body.color, sphere_subdivisions(radius, 0.003 * extent), track))
-    markers = [(m.name, np.asarray(m.position, float) * scale, m.color) for m in pres.markers]
+    markers = [(m.name, np.asarray(m.position, float) * scale, m.color, m.point, m.anchor)
+               for m in pres.markers]
     return Geometry(
         segments=segments, segment_colors=seg_colors, nodes=nodes, arrows=arrows,
         curve_segments=np.concatenate(curves) if curves else np.zeros((0, 2, 3)),
         curve_colors=np.concatenate(curve_colors) if curves else np.zeros((0, 2, 3), np.uint8),
         spheres=spheres, markers=markers, center=center, extent=extent, points=pos,
         scene_up=up_axis(pres.up), colorbar=colorbar, times=np.asarray(t, float),
-        unit=pres.display_unit, curve_names=names,
+        unit=pres.display_unit, curve_names=names, arrow_name=pres.arrow_name,
+        arc_names=dict(pres.arc_names), plan=pres.plan,
     )
 
 

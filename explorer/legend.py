@@ -1,5 +1,6 @@
 """The legend under the status line: what the colours in the 3D view mean (burn/coast arcs
-or the colour bar of `Presentation.color_by`, nodes, thrust arrows, every reference curve
+or the colour bar of `Presentation.color_by`, nodes, the arrows (each under the name its
+presentation gives the arcs and arrows: a reentry's are no thrust), every reference curve
 (dashed ones dashed) and body, a dimmed or failed trajectory, a comparison's methods)."""
 
 from __future__ import annotations
@@ -58,16 +59,16 @@ def legend_html(g: Geometry, dim: bool = False, failed: bool = False,
             items.append(_colorbar(g.colorbar))
         else:
             kinds = {tuple(c) for c in g.segment_colors[:, 0].tolist()}
-            if tuple(BURN) in kinds:
-                items.append(_item(BURN, "burn arc"))
-            if tuple(COAST) in kinds:
-                items.append(_item(COAST, "coast arc"))
+            for color, kind in ((BURN, "burn"), (COAST, "coast")):
+                if tuple(color) in kinds:
+                    items.append(_item(color, g.arc_names.get(kind, f"{kind} arc")))
         if failed:
             items.append(_item(WARNING, "failed attempt"))
     if len(g.nodes) and not comparison:
         items.append(_item(NODE if dark else NODE_LIGHT, "nodes", dot=True))
     if len(g.arrows) and not comparison:
-        items.append(_item(ARROW, "thrust direction"))
-    items += [_item(color, name, dashed=dashed) for name, color, dashed in g.curve_names]
+        items.append(_item(ARROW, g.arrow_name))
+    curves = dict.fromkeys(g.curve_names)  # each kind once, however many pieces it has
+    items += [_item(color, name, dashed=dashed) for name, color, dashed in curves]
     items += [_item(s.color, s.name, dot=True) for s in g.spheres]
     return f'{STYLE}<div class="lg">{"".join(items)}</div>'

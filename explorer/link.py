@@ -20,12 +20,21 @@ from collections.abc import Callable
 from urllib.parse import parse_qsl, urlencode
 
 import viser
+import websockets.http11
 
 from solvers.mission import Mission
 
+from .panels.value_input import echo
 from .session import Session
 
 BOX_LABEL = "case from the link"
+MAX_LINK = 4000  # characters of a query the page hands over: a case needs a few hundred
+TOO_LONG = "too-long="  # what the page hands over instead of a longer query (+ its length)
+# viser serves its page through websockets' HTTP parser, which closes the connection on a
+# request line over 8 kB without an answer (a blank page, ERR_EMPTY_RESPONSE). Up to
+# chromium's own limit on an address (2 MB) the page loads instead, and says the link is
+# too long.
+websockets.http11.MAX_LINE_LENGTH = max(websockets.http11.MAX_LINE_LENGTH, 2 * 2**20)
 _ERROR_IMAGE = "data:,{nonce}"  # not an image: onerror runs at once, a new one each time
 
 
@@ -47,22 +56,36 @@ def parse_case(query: str, missions: dict[str, Mission]
                ) -> tuple[Mission, str | None, int | None, str | None, dict, dict]:
     """(mission, method, nodes, backend, values, view) from a query; `ValueError` names
     what is wrong. Values must be numbers; the session validates their ranges."""
+    length = query[len(TOO_LONG):] if query.startswith(TOO_LONG) else len(query)
+    if query.startswith(TOO_LONG) or len(query) > MAX_LINK:
+        raise ValueError(f"the link is too long ({echo(str(length))} characters; a case "
+                         f"needs at most {MAX_LINK}): the default case is shown")
     fields = dict(parse_qsl(query.lstrip("?"), keep_blank_values=True))
     key = fields.get("mission")
     if key not in missions:
-        raise ValueError(f"the link names no known mission ({key!r})")
+        raise ValueError(f"the link names no known mission ('{echo(str(key))}')")
     values, view = {}, {}
     for name, raw in fields.items():
         if name.startswith(("v.", "w.")):
             try:
                 number = float(raw)
             except ValueError:
-                raise ValueError(f"the link's {name[2:]} = {raw!r} is not a number") from None
+                raise ValueError(f"the link's {echo(name[2:])} = '{echo(raw)}' is not a "
+                                 "number") from None
             (values if name[0] == "v" else view)[name[2:]] = number
     nodes = fields.get("nodes")
-    if nodes is not None and not nodes.isdigit():
-        raise ValueError(f"the link's nodes = {nodes!r} is not a whole number")
-    return (missions[key], fields.get("method"), int(nodes) if nodes else None,
+    if nodes is not None and not (nodes.isascii() and nodes.isdigit()):
+        raise ValueError(f"the link's nodes = '{echo(nodes)}' is not a whole number")
+    mission = missions[key]
+    method = fields.get("method")
+    if method is not None and method not in {m.key for m in mission.methods}:
+        raise ValueError(f"the link names no method '{echo(method)}' of {key}")
+    known = {p.key for m in mission.methods for p in mission.all_params(m.key)}
+    unknown = [k for k in values if k not in known] + [
+        k for k in view if k not in {p.key for p in mission.view_params}]
+    if unknown:
+        raise ValueError(f"the link names no parameter '{echo(unknown[0])}' of {key}")
+    return (mission, method, int(nodes) if nodes else None,
             fields.get("backend"), values, view)
 
 
@@ -90,8 +113,9 @@ READ_ADDRESS = """
   }
   if (!input) return;
   if (row.parentElement) row.parentElement.style.display = 'none';
-  const query = window.location.search.slice(1);
+  let query = window.location.search.slice(1);
   if (!query.includes('mission=')) return;
+  if (query.length > MAX_LINK) query = TOO_LONG + query.length;
   const setter = Object.getOwnPropertyDescriptor(HTMLInputElement.prototype, 'value').set;
   setter.call(input, query);
   input.dispatchEvent(new Event('input', {bubbles: true}));
@@ -106,7 +130,8 @@ class CaseLink:
     def __init__(self, gui: viser.GuiApi, restore: Callable[[str], None]) -> None:
         self.box = gui.add_text(BOX_LABEL, "", order=-99)
         self.box.on_update(lambda _: restore(str(self.box.value)) if self.box.value else None)
-        js = READ_ADDRESS.replace("LABEL", json.dumps(BOX_LABEL))
+        js = (READ_ADDRESS.replace("LABEL", json.dumps(BOX_LABEL))
+              .replace("MAX_LINK", str(MAX_LINK)).replace("TOO_LONG", json.dumps(TOO_LONG)))
         self.reader = gui.add_html(_script(js), order=-98)
         self.writer = gui.add_html("", order=-97)
         self._query = ""

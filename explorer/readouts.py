@@ -10,6 +10,7 @@ import numpy as np
 from solvers.presentation import Presentation
 from solvers.solution import Solution
 
+from .panels.status import number, unit_text
 from .player import Track
 
 
@@ -23,7 +24,7 @@ def _fmt(value: float, unit: str) -> str:
         return f"{value / 1e3:.5g} km"
     if unit == "m/s" and abs(value) >= 1e4:
         return f"{value / 1e3:.4g} km/s"
-    return f"{value:.4g} {unit}".rstrip()
+    return f"{number(value, 4)} {unit_text(unit)}".rstrip()
 
 
 def readouts(sol: Solution, pres: Presentation, track: Track, t: float) -> list[tuple[str, str]]:
@@ -47,14 +48,17 @@ def readouts(sol: Solution, pres: Presentation, track: Track, t: float) -> list[
     for name, value in states.items():
         if name in vel or name in ("x", "y", "z"):
             continue
-        label = "mass" if name == "m" and units.get(name) == "kg" else name
-        rows.append((label, _fmt(value, units.get(name, ""))))
+        unit = units.get(name, "")
+        label = sol.labels.get(name)
+        text = label.text if label else "mass" if name == "m" and unit == "kg" else name
+        rows.append((text, _fmt(value, unit)))
     u = np.asarray(sol.u, float)
     if u.ndim == 2 and u.shape[0] == len(track.t):
         for i, (name, unit) in enumerate(zip(sol.control_names, sol.control_units,
                                              strict=False)):
-            rows.append((f"control {name}", _fmt(float(np.interp(pose.t, track.t, u[:, i])),
-                                                   unit)))
+            label = sol.labels.get(name)
+            rows.append((label.text if label else f"control {name}",
+                         _fmt(float(np.interp(pose.t, track.t, u[:, i])), unit)))
     if track.burns:
         rows.append(("thrust", f"burning, throttle {100 * pose.throttle:.0f} %"
                      if pose.burning else "coasting (engine off)"))

@@ -6,6 +6,11 @@ a few arrays and the page rebuilds no scene objects; the context (bodies, curves
 re-sent only when it changed, the vehicle mesh only when the mission changes (its size is a
 scale on the same mesh). Layers: the solution, a failed attempt, comparison overlays, iterate
 ghosts and the vehicle.
+
+A node that is removed is never re-created under the same name (`SceneView._name`): viser
+merges a remove still waiting to be sent with a create of the same name, and the page then
+keeps the removed node's pose; a pose equal to the fresh handle's default (the origin) is
+not sent at all, so a label at the origin stayed where the last mission had put its label.
 """
 
 from __future__ import annotations
@@ -62,8 +67,9 @@ class SceneView:
         self._vehicle_name: str | None = None
         self._vehicle_size = 1.0
         self._moving: list[tuple[viser.SceneNodeHandle, np.ndarray, np.ndarray]] = []
-        self._markers: list[tuple[Any, Any]] = []
-        self._marker_names: list[str] = []
+        self._markers: list[tuple[Any | None, Any]] = []
+        self._marker_names: list[tuple[str, bool, str]] = []
+        self._names: dict[str, int] = {}  # times each node name was used
         self.updates = 0  # in-place updates sent (a test counts them)
         scene.configure_environment_map(None)
         scene.configure_default_lights(cast_shadow=False)
@@ -76,11 +82,18 @@ class SceneView:
         if nodes is not None:
             nodes.colors = np.array(NODE if dark else NODE_LIGHT, np.uint8)
 
+    def _name(self, base: str) -> str:
+        """A node name never used before in this view: `base`, then `base~1`, `base~2`...
+        (see the module's note: a re-used name keeps a removed node's pose in the page)."""
+        uses = self._names.get(base, 0)
+        self._names[base] = uses + 1
+        return base if uses == 0 else f"{base}~{uses}"
+
     @property
     def node_count(self) -> int:
         """Scene nodes this view holds (constant over re-solves: nothing accumulates)."""
         return (len(self._context) + len(self._solution) + len(self._layers)
-                + len(self._vehicle) + 2 * len(self._markers))
+                + len(self._vehicle) + sum(1 + (p is not None) for p, _ in self._markers))
 
     def draw(self, g: Geometry) -> None:
         """Show `g`: the context if it changed, then path, nodes and arrows in place."""
@@ -93,17 +106,22 @@ class SceneView:
         self._scale_bar(g)
 
     def _scale_bar(self, g: Geometry) -> None:
-        """A bar of round length with its unit above the path (the 3D view's scale)."""
+        """A bar of round length with its unit above the path (the 3D view's scale); none
+        on a 2-D plot, whose axes carry ticks."""
         start, end, text = scale_bar(g)
-        segment = np.array([[start, end]], np.float32)
+        segment = np.array([[start, end]], np.float32)[:0 if g.plan else 1]
         color = np.array([[[200, 200, 200], [200, 200, 200]]], np.uint8)
         self._segments(f"{self.root}/scale", self._solution, segment, color, 2.0)
         label = self._solution.get(f"{self.root}/scale_label")
         middle = tuple(0.5 * (start + end))
+        if label is not None and label.visible == g.plan:
+            label.visible = not g.plan
+        if g.plan:
+            return
         if label is None or _removed(label):
             self._solution[f"{self.root}/scale_label"] = self.scene.add_label(
-                f"{self.root}/scale_label", text, position=middle, font_screen_scale=0.8,
-                anchor="bottom-center")
+                self._name(f"{self.root}/scale_label"), text, position=middle,
+                font_screen_scale=0.8, anchor="bottom-center")
         else:
             label.text, label.position = text, middle
 
@@ -117,7 +135,8 @@ class SceneView:
         pts = np.asarray(segments, np.float32)
         cols = line_colors(colors)
         if handle is None or _removed(handle):
-            store[name] = self.scene.add_line_segments(name, pts, cols, thickness=thickness,
+            store[name] = self.scene.add_line_segments(self._name(name), pts, cols,
+                                                       thickness=thickness,
                                                        thickness_units="screen")
             return
         if not (np.array_equal(handle.points, pts) and np.array_equal(handle.colors, cols)):
@@ -136,7 +155,8 @@ class SceneView:
         pts = np.asarray(points, np.float32)
         if handle is None or _removed(handle):
             self._solution[name] = self.scene.add_point_cloud(
-                name, pts, color, point_size=size, point_shape="circle", precision="float32")
+                self._name(name), pts, color, point_size=size, point_shape="circle",
+                precision="float32")
             return
         handle.points, handle.point_size = pts, size
         handle.visible = True
@@ -151,7 +171,7 @@ class SceneView:
         pts = np.asarray(arrows, np.float32)
         if handle is None or _removed(handle):
             self._solution[name] = self.scene.add_arrows(
-                name, pts, ARROW, shaft_radius=0.25 * size, head_radius=0.8 * size,
+                self._name(name), pts, ARROW, shaft_radius=0.25 * size, head_radius=0.8 * size,
                 head_length=2.0 * size)
             return
         handle.points = pts
@@ -196,21 +216,22 @@ class SceneView:
 
     def _load_vehicle(self, vehicle: str) -> None:
         body = vehicle_mesh(vehicle)
-        frame = self.scene.add_frame(f"{self.root}/vehicle", show_axes=False, visible=False)
+        frame = self.scene.add_frame(self._name(f"{self.root}/vehicle"), show_axes=False,
+                                     visible=False)
         self._vehicle = {"frame": frame}
         if body is not None:
-            self._vehicle["body"] = self.scene.add_glb(f"{self.root}/vehicle/body", body, scale=1.0)
+            self._vehicle["body"] = self.scene.add_glb(f"{frame.name}/body", body, scale=1.0)
             plume = asset_bytes("plume.glb")
             if plume is not None:
                 self._vehicle["plume"] = self.scene.add_glb(
-                    f"{self.root}/vehicle/plume", plume, scale=(1.0, 1.0, 1.0),
+                    f"{frame.name}/plume", plume, scale=(1.0, 1.0, 1.0),
                     position=(0.0, 0.0, -0.5), visible=False)
         else:  # no assets: a plain box still shows where the vehicle is
-            self._vehicle["body"] = self.scene.add_box(f"{self.root}/vehicle/body", (255, 255, 255),
+            self._vehicle["body"] = self.scene.add_box(f"{frame.name}/body", (255, 255, 255),
                                                        dimensions=(1.0, 1.0, 1.0))
         self._vehicle["force"] = self.scene.add_arrows(
-            f"{self.root}/vehicle_force", np.zeros((1, 2, 3), np.float32), ARROW, shaft_radius=0.06,
-            head_radius=0.18, head_length=0.4, visible=False)
+            self._name(f"{self.root}/vehicle_force"), np.zeros((1, 2, 3), np.float32), ARROW,
+            shaft_radius=0.06, head_radius=0.18, head_length=0.4, visible=False)
         self._vehicle_name = vehicle
         self._vehicle_size = 1.0
 
@@ -261,7 +282,7 @@ class SceneView:
     def clear(self) -> None:
         """Remove everything drawn (a mission change)."""
         for handle in [*self._context, *self._solution.values(), *self._layers.values(),
-                       *(h for pair in self._markers for h in pair)]:
+                       *(h for pair in self._markers for h in pair if h is not None)]:
             handle.remove()
         self.remove_vehicle()
         self._context, self._solution, self._layers, self._context_key = [], {}, {}, None
@@ -280,13 +301,14 @@ class SceneView:
             self._context, self._moving = [], []
             add = self._context.append
             for s in g.spheres:
-                add(self.scene.add_icosphere(f"{self.root}/bodies/{s.name}", s.radius, s.color,
+                add(self.scene.add_icosphere(self._name(f"{self.root}/bodies/{s.name}"),
+                                             s.radius, s.color,
                                              subdivisions=s.subdivisions, position=s.center,
                                              cast_shadow=False, receive_shadow=False))
                 if s.track is not None:
                     self._moving.append((self._context[-1], g.times, s.track))
             if len(g.curve_segments):
-                add(self.scene.add_line_segments(f"{self.root}/curves",
+                add(self.scene.add_line_segments(self._name(f"{self.root}/curves"),
                                                  g.curve_segments.astype(np.float32),
                                                  line_colors(g.curve_colors),
                                                  thickness=1.5, thickness_units="screen"))
@@ -294,23 +316,33 @@ class SceneView:
         self._draw_markers(g)
 
     def _draw_markers(self, g: Geometry) -> None:
-        names = [m[0] for m in g.markers]
-        if names != self._marker_names:
+        """Marker points and labels: made again when their names (or kinds) change, else
+        moved in place, each label with its point."""
+        kinds = [(m[0], m[3], m[4]) for m in g.markers]
+        if kinds != self._marker_names:
             for point, label in self._markers:
-                point.remove()
+                if point is not None:
+                    point.remove()
                 label.remove()
-            self._markers = []
-            for i, (name, position, color) in enumerate(g.markers):
-                self._markers.append((
-                    self.scene.add_point_cloud(f"{self.root}/markers/{i}",
-                                               position[None].astype(np.float32), color,
-                                               point_size=0.015 * g.extent,
-                                               point_shape="circle", precision="float32"),
-                    self.scene.add_label(f"{self.root}/labels/{i}", name, position=position,
-                                         font_screen_scale=0.8, anchor="bottom-left")))
-            self._marker_names = names
+            self._markers = [self._add_marker(i, marker, g.extent)
+                             for i, marker in enumerate(g.markers)]
+            self._marker_names = kinds
             return
-        for (point, label), (_, position, _) in zip(self._markers, g.markers, strict=True):
-            point.points = position[None].astype(np.float32)
-            point.point_size = 0.015 * g.extent
+        for (point, label), (_, position, _, _, _) in zip(self._markers, g.markers,
+                                                          strict=True):
+            if point is not None:
+                point.points = position[None].astype(np.float32)
+                point.point_size = 0.015 * g.extent
             label.position = tuple(position)
+
+    def _add_marker(self, i: int, marker: tuple, extent: float) -> tuple[Any | None, Any]:
+        name, position, color, has_point, anchor = marker
+        point = None
+        if has_point:
+            point = self.scene.add_point_cloud(
+                self._name(f"{self.root}/markers/{i}"), position[None].astype(np.float32),
+                color, point_size=0.015 * extent, point_shape="circle", precision="float32")
+        label = self.scene.add_label(self._name(f"{self.root}/labels/{i}"), name,
+                                     position=tuple(position), font_screen_scale=0.8,
+                                     anchor=anchor)
+        return point, label

@@ -166,6 +166,19 @@ class Session:
         guess = any(p.key == key and p.guess for p in self.mission.all_params(self.method))
         self._changed(config=False, cold=guess)
 
+    def set_values(self, values: Mapping[str, float]) -> None:
+        """Change several values at once (a handle dragged in 3D moves x and y): one solve,
+        not one per value; unchanged values are ignored."""
+        unknown = sorted(set(values) - set(self.values))
+        if unknown:
+            raise KeyError(f"{unknown} are not parameters of {self.mission.key}/{self.method}")
+        changed = {k: float(v) for k, v in values.items() if self.values[k] != float(v)}
+        if not changed:
+            return
+        self.values.update(changed)
+        guess = any(p.key in changed and p.guess for p in self.mission.all_params(self.method))
+        self._changed(config=False, cold=guess)
+
     def set_view(self, key: str, value: float) -> None:
         """Change one view option: listeners redraw, nothing is solved."""
         if key not in self.view:

@@ -25,6 +25,7 @@ from . import style
 from .about import about_html
 from .camera import Cameras, shot_pose, top_view
 from .geometry import WARNING, Geometry, build_geometry, ghost_geometry, path_segments
+from .handles import Handles
 from .help import KeyHelp, Welcome
 from .legend import legend_html
 from .link import CaseLink, case_query, parse_case
@@ -60,6 +61,8 @@ class View:
     """One session shown through one GUI and scene; `attach` the browsers that watch it
     (one per tab, or every tab in shared mode). Implements `SessionListener`."""
 
+    session_class: type[Session] = Session  # a classroom's views use a Session subclass
+
     def __init__(self, gui: viser.GuiApi, scene: viser.SceneApi,
                  atomic: Callable[[], AbstractContextManager[Any]], missions: Sequence[Mission],
                  mission: Mission, method: str | None = None, nodes: int | None = None,
@@ -68,8 +71,9 @@ class View:
         """`scene_root` prefixes this view's scene nodes (views sharing one scene)."""
         self.gui = gui
         self.atomic = atomic  # groups one update into one browser frame
-        self.session = Session(mission, method=method, nodes=nodes, auto=False,
-                               time_limit=time_limit, runner=runner, patience=DRAG_PATIENCE)
+        self.session = self.session_class(mission, method=method, nodes=nodes, auto=False,
+                                          time_limit=time_limit, runner=runner,
+                                          patience=DRAG_PATIENCE)
         self.dark = True
         self.drawn = 0  # solutions drawn so far (capture waits on this)
         self._lock = threading.RLock()  # scene and figure updates come from several threads
@@ -102,12 +106,13 @@ class View:
                                         lambda: self.clear_comparison(redraw=True))
         with tabs.add_tab("Export", viser.Icon.DOWNLOAD):
             self.export = ExportPanel(gui, self.current, self.session.time_limit,
-                                      lambda s: self.session.set_time_limit(s), self.set_dark,
-                                      self.shot_camera)
+                                      self.session.set_time_limit, self.set_dark,
+                                      self.shot_camera, self.refuse)
         self.side = SidePanel(gui, self._redraw)
         self.cameras = Cameras(PLOT_PANEL[1] + PANEL_GAP)
         self._build_commands()
         self.scene = SceneView(scene, dark=self.dark, root=scene_root)
+        self.handles = Handles(scene, self.session, self.controls, self.refuse, scene_root)
         self.replay = IterationReplay(self.scene, self._lock, lambda: self.presentation,
                                       self._say_replay, self._replay_done)
         self.session.listeners.append(self)
@@ -138,8 +143,9 @@ class View:
         try:
             mission, method, nodes, backend, values, view = parse_case(query, self.missions)
             self.session.restore(mission, method, nodes, values, view, backend)
-        except ValueError as exc:
-            self.refuse("this link's case cannot be restored", str(exc))
+        except ValueError as exc:  # the default case stays; the notice says why
+            self.status.notify_kept(self.cameras.clients.values(),
+                                    "this link's case cannot be restored", str(exc))
 
     def _say_replay(self, text: str) -> None:
         self.play.replay_text.content = text
@@ -188,10 +194,14 @@ class View:
 
     # ---- SessionListener ----------------------------------------------------------------
     def on_config(self, session: Session) -> None:
+        self.link.show(case_query(session))
         self.controls.rebuild()
         self.compare.rebuild(session.mission)
         self.side.about.content = about_html(session.mission, session.method)
         self.clear_comparison(redraw=False)
+        self.compare.table.content = ""  # also "solving…" or "tick at least two methods"
+        self.trust.clear()  # a verdict belongs to the case it checked
+        self.play.replay_text.content = ""
         shown = self._shown[0].mission if self._shown is not None else None
         if shown is not None and shown != session.mission.key:
             with self._lock:  # another mission: its first solve may fail, show nothing old
@@ -233,9 +243,11 @@ class View:
     def on_result(self, request: Request, solution: Solution) -> None:
         good = self.session.last_good
         self.clear_comparison(redraw=False)
+        self.trust.clear()
         self.status.clear_notices()
         if request.refine and solution.converged:
             self.controls.fields["nodes"].show(solution.nodes)
+        self.link.show(case_query(self.session))  # a refinement changed the node count
         if solution.converged:
             self._draw(solution, dim=False)
             self._set_failed(None)
@@ -245,11 +257,18 @@ class View:
             self._set_failed(solution if solution.has_trajectory else None)
             self.status.notify(self.cameras.clients.values(),
                                f"{solution.status}: {solution.mission}", solution.message)
-        self.status.show_result(solution, checking=solution.ok,
-                                kept=good is not None and not solution.converged)
+        self.status.show_result(solution, checking=solution.ok and solution.has_trajectory,
+                                kept=good is not None and not solution.converged,
+                                nodes_label=self._nodes_label(request, solution))
+
+    @staticmethod
+    def _nodes_label(request: Request, sol: Solution) -> str:
+        """The word for the node count of `sol`'s method (as its slider says it)."""
+        return request.mission.method(sol.method).nodes_label
 
     def on_check(self, request: Request, solution: Solution) -> None:
-        self.status.show_result(solution, checking=False, kept=False)
+        self.status.show_result(solution, checking=False, kept=False,
+                                nodes_label=self._nodes_label(request, solution))
         if self._shown is None or self._shown[0] is not solution:
             return
         # Draw again only if the check changed what is on screen (a reference curve, the
@@ -297,6 +316,7 @@ class View:
             self._drawn = _signature(pres, sol)
             self.scene.draw(geometry)
             self._geometry = geometry
+            self.handles.place(pres, geometry)
             if not dim:
                 self._new_track(sol, pres, geometry)
             subplots = sum(p.group != "reference" for p in plots)

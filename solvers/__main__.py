@@ -1,8 +1,10 @@
 """Command line: `python -m solvers list | params MISSION | solve MISSION ... |
 sweep MISSION --grid KEY=V1,V2 ... | launch-map --out DIR ...`.
 
-Bad input (unknown mission, method or key, values out of range) exits with code 2 and one
-line on stderr; a solve that runs but does not converge exits 1 after printing its result.
+Bad input (unknown mission, method, key or option, values out of range, an output file that
+cannot be written) exits with code 2 and one line on stderr before any work starts; a solve
+that runs but does not converge exits 1 after printing its result. Every solve has a time
+limit (--time-limit, default {limit:g} s, 0 for none) that bounds it and its check together.
 """
 
 from __future__ import annotations
@@ -14,7 +16,7 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
-from .mission import Mission
+from .mission import DEFAULT_TIME_LIMIT, Mission
 from .registry import expand_mission_paths, get_mission, list_missions, load_mission_files
 from .service import SolveService, SolveSpec
 from .solution import Solution
@@ -22,6 +24,9 @@ from .solution import Solution
 EXIT_BAD_INPUT = 2
 EXIT_NOT_OPTIMAL = 1
 EXIT_INTERRUPTED = 130
+TIME_LIMIT_HELP = (f"seconds the solve and its check may take together (default "
+                   f"{DEFAULT_TIME_LIMIT:g}; 0: no limit); hard: a solve still running 1 s "
+                   "past it is stopped with its process")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -34,7 +39,8 @@ class _BadInput(Exception):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="python -m solvers", description=__doc__)
+    parser = _Parser(prog="python -m solvers",
+                     description=(__doc__ or "").format(limit=DEFAULT_TIME_LIMIT))
     sub = parser.add_subparsers(dest="command", required=True)
     listing = sub.add_parser("list", help="the missions (built-in and from --mission-file) "
                                           "and their methods")
@@ -58,9 +64,8 @@ def build_parser() -> argparse.ArgumentParser:
     solve.add_argument("--backend", help="NLP back end, e.g. ipopt or sqp")
     solve.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                        help="parameter value in SI units (repeatable)")
-    solve.add_argument("--time-limit", type=float,
-                       help="stop the solve after this many seconds (hard: the solver's "
-                            "process is stopped 1 s later if it does not return)")
+    solve.add_argument("--time-limit", type=_time_limit, default=DEFAULT_TIME_LIMIT,
+                       metavar="S", help=TIME_LIMIT_HELP)
     solve.add_argument("--json", action="store_true", help="print one JSON object")
     solve.add_argument("--csv", metavar="FILE", help="write the dense trajectory as CSV")
     sweep = sub.add_parser("sweep", help="solve a mission over a grid of parameter values")
@@ -72,7 +77,10 @@ def build_parser() -> argparse.ArgumentParser:
     sweep.add_argument("--method")
     sweep.add_argument("--nodes", type=int)
     sweep.add_argument("--scheduler", help="dask.distributed scheduler address (tcp://...)")
-    sweep.add_argument("--workers", type=int, help="local worker processes (default: cores)")
+    sweep.add_argument("--workers", type=_workers,
+                       help="local worker processes (default: cores)")
+    sweep.add_argument("--time-limit", type=_time_limit, default=DEFAULT_TIME_LIMIT,
+                       metavar="S", help=TIME_LIMIT_HELP.replace("the solve", "each solve"))
     sweep.add_argument("--out", metavar="FILE", help="write every solution summary as JSON")
     for command in (listing, params, solve, sweep):
         command.add_argument("--mission-file", action="append", default=[], metavar="F",
@@ -80,6 +88,28 @@ def build_parser() -> argparse.ArgumentParser:
     sub.add_parser("launch-map", add_help=False,
                    help="asteroid launch-C3 map, PNG and data (python -m solvers launch-map -h)")
     return parser
+
+
+def _time_limit(text: str) -> float | None:
+    """--time-limit: seconds, positive; 0 means no limit (None)."""
+    try:
+        seconds = float(text)
+    except ValueError:
+        seconds = math.nan
+    if not (math.isfinite(seconds) and seconds >= 0):
+        raise _BadInput(f"--time-limit must be a number of seconds (0: no limit), not '{text}'")
+    return seconds or None
+
+
+def _workers(text: str) -> int:
+    """--workers: a whole number of processes, at least 1."""
+    try:
+        count = int(text)
+    except ValueError:
+        count = 0
+    if count < 1:
+        raise _BadInput(f"--workers must be a whole number of at least 1, not '{text}'")
+    return count
 
 
 def _nodes(text: str) -> int | str:
@@ -128,7 +158,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     axes = parse_axes(args.grid)
     fixed = parse_assignments(args.set)
     check_request(mission, {**fixed, **{k: v[0] for k, v in axes.items()}}, args.method,
-                  args.nodes, None, None)
+                  args.nodes, None)
     _writable(args.out, "--out")
     # Validate every grid point before any worker starts: bad input fails fast, exit 2.
     keys = list(axes)
@@ -136,10 +166,9 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         for value in axes[key]:
             mission.validate({**fixed, key: value}, args.method, args.nodes)
     rows = mission_grid(mission.key, axes, fixed, args.method, args.nodes, args.scheduler,
-                        args.workers, mission_files=args.files)
-    if args.out:
-        with open(args.out, "w", encoding="utf-8") as fh:
-            json.dump(rows, fh, allow_nan=False)
+                        args.workers, mission_files=args.files, time_limit=args.time_limit)
+    if args.out is not None:
+        _write(args.out, "--out", json.dumps(rows, allow_nan=False))
     print("  ".join([*keys, "status", rows[0]["cost"]["label"] if rows else "cost", "wall_s"]))
     for row in rows:
         cells = [f"{row['values'][k]:g}" for k in keys]
@@ -176,23 +205,47 @@ def _cmd_params(mission: Mission) -> str:
 
 
 def _writable(path: str | None, option: str) -> None:
-    """Refuse an output file whose folder does not exist, before any work is done."""
-    if path and not Path(path).resolve().parent.is_dir():
-        raise _BadInput(f"{option} {path}: the folder {Path(path).parent} does not exist")
+    """Refuse an output file that cannot be written (an empty name, a folder, a missing
+    folder, no permission, a special file), before any work is done: opened for appending
+    and closed again (a file that did not exist is removed again)."""
+    if path is None:
+        return
+    target = Path(path)
+    if not path.strip():
+        raise _BadInput(f"{option} '{path}': an empty name is no file to write")
+    if target.is_dir():
+        raise _BadInput(f"{option} {path}: that is a folder; name a file in it")
+    if not target.resolve().parent.is_dir():
+        raise _BadInput(f"{option} {path}: the folder {target.parent} does not exist")
+    existed = target.exists()
+    try:
+        with open(target, "a", encoding="utf-8"):
+            pass
+    except OSError as exc:
+        raise _BadInput(f"{option} {path}: cannot be written ({exc.strerror})") from None
+    if not existed:
+        target.unlink(missing_ok=True)
+
+
+def _write(path: str, option: str, text: str) -> None:
+    """Write an output file checked by `_writable`; a failure now names option and path."""
+    try:
+        Path(path).write_text(text, encoding="utf-8")
+    except OSError as exc:
+        raise _BadInput(f"{option} {path}: writing failed ({exc.strerror}); the results "
+                        "above are not saved") from None
 
 
 def check_request(mission: Mission, values: dict[str, float], method: str | None,
-                  nodes: int | None, backend: str | None, time_limit: float | None) -> None:
+                  nodes: int | None, backend: str | None) -> None:
     """Everything the CLI refuses before solving: values of another method, a back end the
-    method does not have, a time limit that is not a positive number (exit 2)."""
+    method does not have (exit 2)."""
     m = mission.method(method)
     known = {p.key for p in mission.all_params(m.key)}
     foreign = sorted(set(values) - known)
     if foreign:
         raise _BadInput(f"{', '.join(foreign)}: not a parameter of {mission.key} with method "
                         f"'{m.key}' (see `python -m solvers params {mission.key}`)")
-    if time_limit is not None and not (math.isfinite(time_limit) and time_limit > 0):
-        raise _BadInput(f"--time-limit must be a positive number of seconds, not {time_limit}")
     mission.validate(values, method, nodes)
     if backend is not None and backend not in m.backends:
         known_b = ", ".join(m.backends) or "none: this method has no choice of back end"
@@ -210,24 +263,18 @@ def load_files(paths: Sequence[str]) -> list[str]:
 
 def solve_isolated(spec: SolveSpec, mission_files: Sequence[str] = ()) -> Solution:
     """Solve in a worker process of its own: Ctrl-C stops it at once (even inside a native
-    solver) and a time limit is enforced by stopping the process. `mission_files` are
-    loaded by the worker."""
+    solver) and the time limit is hard: the service stops a solve 1 s past it, and a check
+    not back by then is given up (the process is stopped as the service closes).
+    `mission_files` are loaded by the worker."""
     with SolveService(1, prebuild=False, mission_files=mission_files) as service:
-        job = service.submit(spec)
-        while not job.done.wait(0.1):
-            pass
-        sol = job.result()
-        while not job.checked.wait(0.1):
-            pass
-        return sol
+        return service.submit(spec).checked_result()
 
 
 def _cmd_solve(args: argparse.Namespace) -> int:
     mission = get_mission(args.mission)
     values = parse_assignments(args.set)
     auto = args.nodes == "auto"
-    check_request(mission, values, args.method, None if auto else args.nodes, args.backend,
-                  args.time_limit)
+    check_request(mission, values, args.method, None if auto else args.nodes, args.backend)
     if args.tol is not None:
         mission.accuracy_targets(args.tol)  # a bad --tol is bad input (exit 2)
     if args.multistart < 1:
@@ -236,9 +283,6 @@ def _cmd_solve(args: argparse.Namespace) -> int:
     sol = solve_isolated(SolveSpec(mission.key, args.method, args.nodes, args.backend, values,
                                    time_limit=args.time_limit, tol=args.tol,
                                    starts=args.multistart, cold=args.cold), args.files)
-    if args.csv:
-        with open(args.csv, "w", encoding="utf-8") as fh:
-            fh.write(sol.to_csv())
     if args.json:
         print(sol.to_json())
     else:
@@ -252,6 +296,8 @@ def _cmd_solve(args: argparse.Namespace) -> int:
         for step in sol.mesh:
             print(f"  mesh  {int(step['nodes']):5d} nodes: miss {step['miss']:.3e}, "
                   f"{step['worst_ratio']:.3g} x target, {step['solve_s']:.2f} s")
+    if args.csv is not None:
+        _write(args.csv, "--csv", sol.to_csv())
     return 0 if sol.ok else EXIT_NOT_OPTIMAL
 
 

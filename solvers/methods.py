@@ -41,4 +41,22 @@ LGL = Method(
                 r"J \approx \frac{T}{2}\sum_i w_i L(x_i, u_i)"),),
 )
 
-GENERAL_METHODS = (HERMITE_SIMPSON, MULTIPLE_SHOOTING, LGL)
+SCVX = Method(
+    "scvx", "Successive convexification (SCvx)", "Mao, Szmuk & Açıkmeşe 2016",
+    "The Hermite–Simpson NLP solved as a sequence of convex QPs (Clarabel): constraints "
+    "linearised about the last iterate with exact CasADi Jacobians, virtual control and "
+    "virtual buffers under an L1 penalty, the Lagrangian's curvature made convex in the "
+    "cost, a trust region adapted by the ratio of actual to predicted reduction of the "
+    "nonlinear penalised cost.",
+    nodes=(5, 30, 200), nodes_label="intervals", backends=("scvx",),
+    transcription="scvx",
+    equations=(("Convex subproblem about the iterate z_k",
+                r"\min_d\ \nabla f^T d + \tfrac12 d^T B_k d + \lambda\lVert\nu\rVert_1,\ "
+                r"B_k = \nabla^2 L + \delta I \succeq 0"
+                r"\quad g_k + J_k d = \nu,\quad \lVert d\rVert_\infty \le \eta"),
+               ("Trust-region ratio on the nonlinear penalised cost",
+                r"\rho = \frac{\Phi(z_k) - \Phi(z_k + d)}{\Phi(z_k) - L_k(d)},\quad "
+                r"\Phi = f + \lambda\,\lVert\text{violation}(g)\rVert_1"),),
+)
+
+GENERAL_METHODS = (HERMITE_SIMPSON, MULTIPLE_SHOOTING, LGL, SCVX)

@@ -22,15 +22,20 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from . import cost_error
+from .handles import Handle, Sphere
 from .optimality import too_few_nodes
 from .problem import Consistency, Method, Param, Preset, Published, validate_values
-from .solution import Quantity, Solution
+from .solution import Label, Quantity, Solution
 
 if TYPE_CHECKING:
     from .ocp import OCP, OCPResult
     from .presentation import Presentation
 
 ProgressCallback = Callable[[int, str], None]
+# s: the time limit of a solve when the caller names none (`Mission.solve`, the CLI); a
+# limit of None or 0 means none.
+DEFAULT_TIME_LIMIT = 120.0
 
 
 class Infeasible(Exception):
@@ -78,6 +83,21 @@ class SolveContext:
     def remaining(self) -> float | None:
         return None if self.time_limit is None else max(self.time_limit - self.elapsed(), 1e-3)
 
+    def bound_check(self, sol: Solution) -> None:
+        """Give the solution's deferred check what is left of the time limit: run whenever
+        it is, it stops (`verify.CheckTimeLimit`, reported in its message) once that budget
+        is spent, so solve plus check stay within the limit."""
+        budget, checker = self.remaining(), sol.checker
+        if budget is None or checker is None:
+            return
+        from .verify import time_budget
+
+        def budgeted() -> dict[str, float]:
+            with time_budget(budget):
+                return checker()
+
+        sol.checker = budgeted
+
     def elapsed(self) -> float:
         return time.perf_counter() - self.started
 
@@ -105,10 +125,14 @@ class Mission:
     # (caption, LaTeX) pairs for the mission's About panel: the model in the paper's notation.
     equations: tuple[tuple[str, str], ...] = ()
     tolerances: Mapping[str, float] = {}
+    cost_rtol: float = 1e-4  # target of the cost error estimate, relative (`cost_error`)
     consistency: tuple[Consistency, ...] = ()
     cost_label: str = "cost"
     cost_unit: str = ""
     vehicle: str = "default"
+    labels: Mapping[str, Label] = {}  # screen names of states, controls and check entries
+    handles: tuple[Handle, ...] = ()  # points dragged in the 3D view, bound to params
+    shapes: tuple[Sphere, ...] = ()  # obstacles drawn in the 3D view, bound to params
 
     # ---- records ------------------------------------------------------------------------
     @property
@@ -199,7 +223,7 @@ class Mission:
         cold: bool = False,
         progress: ProgressCallback | None = None,
         cancel: threading.Event | None = None,
-        time_limit: float | None = None,
+        time_limit: float | None = DEFAULT_TIME_LIMIT,
         verify: bool = True,
     ) -> Solution:
         """Solve one request. Bad input raises `ValueError`; everything else returns a
@@ -213,7 +237,16 @@ class Mission:
         `verify=False` defers the re-propagation check (`Solution.run_check()`), so a live
         view can draw the new optimum before the high-accuracy integration has run (an
         "auto" solve always checks: refinement needs the miss).
+
+        `time_limit` (s; default `DEFAULT_TIME_LIMIT`, None or 0: none) bounds the solve and
+        its check together: the solver stops at its first iteration past the limit, and the
+        check (deferred or not) gets what is left and stops when that is spent. In this
+        process the limit is cooperative: it is consulted between solver iterations and at
+        every step of the check's integrations, so a single native solver iteration is not
+        interrupted. For a hard limit, solve through `solvers.service` (the CLI and the
+        explorer do): a solve still running 1 s past its limit is killed with its worker.
         """
+        time_limit = time_limit or None
         if nodes == "auto":
             from .refine import solve_auto
 
@@ -249,6 +282,9 @@ class Mission:
         sol.stats["wall_s"] = ctx.elapsed()
         sol.stats.setdefault("iterations", ctx.iterations)
         sol.targets = targets
+        sol.labels = dict(self.labels)
+        cost_error.attach(self, sol, m)
+        ctx.bound_check(sol)
         if verify and sol.has_trajectory:
             sol.run_check()
         return sol

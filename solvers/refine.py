@@ -1,11 +1,12 @@
 """Mesh refinement to an accuracy target: `Mission.solve(..., nodes="auto", tol=...)`.
 
 Solve at a node count, re-propagate the control (the mission's check), and while the miss
-exceeds a target (`Mission.accuracy_targets`) solve again with more nodes, warm-started from
-the previous answer, until every target is met, the method's node cap is reached or a
-refinement no longer reduces the miss (`stalled`). Each step is recorded in
-`Solution.mesh`: nodes, the headline miss, the worst miss relative to its target, the largest
-interval error and the time the step took.
+exceeds a target (`Mission.accuracy_targets`) or the cost error estimate its target
+(`solvers.cost_error`: a target of `Solution.targets` like the misses) solve again with more
+nodes, warm-started from the previous answer, until every target is met, the method's
+node cap is reached or a refinement no longer reduces the miss (`stalled`). Each step is
+recorded in `Solution.mesh`: nodes, the headline miss, the worst miss relative to its
+target, the largest interval error and the time the step took.
 
 The choice: uniform refinement through the mission's own node count, not a non-uniform (h)
 mesh. It is the one knob every method has, the paper's own methods included (integral

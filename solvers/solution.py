@@ -36,9 +36,52 @@ class Quantity:
     value: float
     label: str
     unit: str
+    # The estimated absolute error of `value` (its unit; the cost's: `solvers.cost_error`).
+    error_estimate: float | None = None
 
     def to_dict(self) -> dict[str, Any]:
-        return {"value": _num(self.value), "label": self.label, "unit": self.unit}
+        out = {"value": _num(self.value), "label": self.label, "unit": self.unit}
+        if self.error_estimate is not None:
+            out["error_estimate"] = _num(self.error_estimate)
+        return out
+
+
+@dataclass(frozen=True)
+class Label:
+    """How a state, control or check entry is named on screen: words and the SI unit of
+    its value (missions give them in `Mission.labels`, keyed by name)."""
+
+    text: str
+    unit: str = ""
+
+
+# The check entries and statistics the methods report (missions add their own states,
+# controls and checks in `Mission.labels`, which come first).
+COMMON_LABELS = {
+    "max_defect": Label("largest constraint violation (scaled)"),
+    "error": Label("re-propagation check failed"),
+    "iterations": Label("iterations"),
+    "inner_iterations": Label("inner iterations"),
+    "function_evaluations": Label("function evaluations"),
+    "nlp_variables": Label("NLP variables"),
+    "nlp_constraints": Label("NLP constraints"),
+    "constraint_violation": Label("largest constraint violation (scaled)"),
+    "hamiltonian_variation": Label("Hamiltonian variation (relative)"),
+    "worst_interval": Label("interval of the largest local error"),
+    "worst_interval_t": Label("time of the largest local error", "s"),
+    "worst_interval_error": Label("largest local error (relative)"),
+    "steps_per_segment": Label("integration steps per segment"),
+    "integration_error_m": Label("integration error, position", "m"),
+    "integration_error_m_s": Label("integration error, speed", "m/s"),
+    "stages": Label("solve stages"),
+    "starts": Label("initial guesses"),
+    "converged_starts": Label("converged guesses"),
+    "distinct_optima": Label("distinct optima"),
+    "pso_evaluations": Label("swarm evaluations"),
+    "pso_generations": Label("swarm generations"),
+    "cost_reference_nodes": Label("nodes of the cost error estimate's second solve"),
+    "cost_error_s": Label("time of the cost error estimate", "s"),
+}
 
 
 @dataclass
@@ -149,6 +192,8 @@ class Solution:
     # The cold starts of a multi-start solve (`solvers.multistart`): cost, converged (0/1)
     # and the guess values of each.
     starts: list[dict[str, float]] = field(default_factory=list)
+    # Screen names of the states, controls and check entries, by key (`Label`).
+    labels: dict[str, Label] = field(default_factory=dict)
     warm: WarmStart | None = field(default=None, repr=False)
     # The deferred re-propagation check (see `Mission.solve(verify=False)`); it stays in the
     # process that solved: never pickled.
@@ -173,6 +218,12 @@ class Solution:
         """The re-propagated misses beyond their targets: key -> (miss, target)."""
         return {k: (self.check[k], tol) for k, tol in self.targets.items()
                 if k in self.check and not abs(self.check[k]) <= tol}
+
+    def label(self, key: str, unit: str = "") -> Label:
+        """The screen name of a state, control or check entry (`unit`: its SI unit when the
+        mission gives no label; then the name is the key itself)."""
+        return (self.labels.get(key) or COMMON_LABELS.get(key)
+                or Label(key.replace("_", " "), unit))
 
     @property
     def has_trajectory(self) -> bool:
@@ -218,9 +269,16 @@ class Solution:
         if not missed:
             return
         self.status = "inaccurate"
-        worst = ", ".join(f"{k} = {v:.3g} (target {tol:g})" for k, (v, tol) in missed.items())
-        self.message += (f" — inaccurate: re-propagating the control misses {worst}; refine "
-                         "the mesh (more nodes, or nodes='auto')")
+        cost = missed.pop("cost_error_estimate", None)
+        why = []
+        if missed:
+            worst = ", ".join(f"{k} = {v:.3g} (target {tol:g})" for k, (v, tol) in missed.items())
+            why.append(f"re-propagating the control misses {worst}")
+        if cost is not None:
+            why.append(f"the cost's estimated error {cost[0]:.2g} {self.cost.unit} exceeds "
+                       f"its target {cost[1]:.2g}".replace("  ", " "))
+        self.message += (f" — inaccurate: {'; '.join(why)}; raise the node count or refine "
+                         "(nodes='auto')")
 
     def summary(self) -> str:
         """One line for a status bar or a terminal."""
@@ -266,7 +324,10 @@ class Solution:
         for name in ("costates", "hamiltonian", "switching", "interval_error"):
             series = getattr(self, name)
             if series is not None:
-                out["switching_function" if name == "switching" else name] = series.to_dict()
+                key = "switching_function" if name == "switching" else name
+                out[key] = series.to_dict()
+                if series.units:  # e.g. "costates_units": {"r": "kg/m", ...}
+                    out[f"{key}_units"] = dict(zip(series.names, series.units, strict=False))
         if dense:
             out.update(t=_arr(self.t), x=_arr(self.x), u=_arr(self.u))
         return out

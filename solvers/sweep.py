@@ -77,14 +77,17 @@ def grid_rows(
 
 
 def solve_summary(mission_key: str, values: Mapping[str, float], method: str | None,
-                  nodes: int | None, mission_files: Sequence[str] = ()) -> dict[str, Any]:
-    """Solve one request and return its JSON-ready summary (the work unit of mission sweeps);
-    `mission_files` are loaded first when the mission is not known in this process."""
+                  nodes: int | None, mission_files: Sequence[str] = (),
+                  time_limit: float | None = None) -> dict[str, Any]:
+    """Solve one request and return its JSON-ready summary (the work unit of mission sweeps
+    on a cluster, where the limit is `Mission.solve`'s cooperative one); `mission_files` are
+    loaded first when the mission is not known in this process."""
     from .registry import get_mission, list_missions, load_mission_files
 
     if mission_files and mission_key not in {m.key for m in list_missions()}:
         load_mission_files(list(mission_files))
-    return get_mission(mission_key).solve(dict(values), method=method, nodes=nodes).to_dict()
+    return get_mission(mission_key).solve(dict(values), method=method, nodes=nodes,
+                                          time_limit=time_limit).to_dict()
 
 
 def mission_grid(
@@ -96,13 +99,16 @@ def mission_grid(
     scheduler: str | None = None,
     workers: int | None = None,
     mission_files: Sequence[str] = (),
+    time_limit: float | None = None,
 ) -> list[dict[str, Any]]:
     """Solve a mission on the Cartesian product of `axes` (param key -> values);
-    `mission_files` are loaded by every worker (a mission declared in a file)."""
+    `mission_files` are loaded by every worker (a mission declared in a file); `time_limit`
+    bounds each solve and its check (None: no limit)."""
     keys = list(axes)
     value_sets = [dict(fixed or {}, **dict(zip(keys, combo, strict=True)))
                   for combo in itertools.product(*(axes[k] for k in keys))]
-    return _solve_all(mission_key, value_sets, method, nodes, scheduler, workers, mission_files)
+    return _solve_all(mission_key, value_sets, method, nodes, scheduler, workers, mission_files,
+                      time_limit)
 
 
 def monte_carlo(
@@ -116,29 +122,34 @@ def monte_carlo(
     scheduler: str | None = None,
     workers: int | None = None,
     mission_files: Sequence[str] = (),
+    time_limit: float | None = None,
 ) -> list[dict[str, Any]]:
-    """Solve a mission for `runs` value sets drawn by `sampler(rng)` (seeded, repeatable)."""
+    """Solve a mission for `runs` value sets drawn by `sampler(rng)` (seeded, repeatable);
+    `time_limit` bounds each solve and its check (None: no limit)."""
     rng = np.random.default_rng(seed)
     value_sets = [dict(fixed or {}, **sampler(rng)) for _ in range(runs)]
-    return _solve_all(mission_key, value_sets, method, nodes, scheduler, workers, mission_files)
+    return _solve_all(mission_key, value_sets, method, nodes, scheduler, workers, mission_files,
+                      time_limit)
 
 
 def _solve_all(mission_key: str, value_sets: list[dict[str, float]], method: str | None,
                nodes: int | None, scheduler: str | None, workers: int | None,
-               mission_files: Sequence[str] = ()) -> list[dict[str, Any]]:
+               mission_files: Sequence[str] = (), time_limit: float | None = None
+               ) -> list[dict[str, Any]]:
     n = len(value_sets)
     if scheduler:
         with executor(scheduler, workers) as ex:
             return list(ex.map(solve_summary, [mission_key] * n, value_sets, [method] * n,
-                               [nodes] * n, [list(mission_files)] * n))
+                               [nodes] * n, [list(mission_files)] * n, [time_limit] * n))
     from .service import SolveService, SolveSpec
 
     with SolveService(workers, prebuild=False, mission_files=mission_files) as service:
-        jobs = [service.submit(SolveSpec(mission_key, method, nodes, values=dict(v)))
+        jobs = [service.submit(SolveSpec(mission_key, method, nodes, values=dict(v),
+                                         time_limit=time_limit))
                 for v in value_sets]
         rows = []
-        for job in jobs:
-            sol = job.result()
+        for job in jobs:  # a check runs when its worker has no solve waiting, bounded by
+            sol = job.result()  # what its solve left of the limit (`Mission.solve`)
             job.check()
             rows.append(sol.to_dict())
         return rows

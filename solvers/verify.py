@@ -7,6 +7,7 @@ the continuous dynamics driven by the method's control really end from the targe
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from functools import cache
@@ -25,7 +26,12 @@ class CheckInterrupted(BaseException):
     A BaseException, so a check's own error handling does not swallow it."""
 
 
+class CheckTimeLimit(Exception):
+    """The check ran out of its time budget (what its solve's time limit left for it)."""
+
+
 _interrupt: list[Callable[[], bool]] = []
+_deadlines: list[float] = []  # time.monotonic() by which the enclosing checks must stop
 
 
 @contextmanager
@@ -38,11 +44,51 @@ def interruptible(should_stop: Callable[[], bool]) -> Iterator[None]:
         _interrupt.pop()
 
 
+@contextmanager
+def time_budget(seconds: float | None) -> Iterator[None]:
+    """Integrations inside the block raise `CheckTimeLimit` once `seconds` have passed
+    (None: no budget; nested budgets: the earliest deadline holds)."""
+    if seconds is None:
+        yield
+        return
+    _deadlines.append(time.monotonic() + max(float(seconds), 0.0))
+    try:
+        yield
+    finally:
+        _deadlines.pop()
+
+
+def remaining_budget() -> float | None:
+    """Seconds left of the enclosing `time_budget` blocks (None: no budget)."""
+    return max(min(_deadlines) - time.monotonic(), 1e-3) if _deadlines else None
+
+
+def stop_requested() -> bool:
+    """An enclosing `interruptible` block asks to stop."""
+    return bool(_interrupt) and _interrupt[-1]()
+
+
 def checkpoint() -> None:
-    """Raise `CheckInterrupted` when an enclosing `interruptible` block asks to stop (for
-    long checks that integrate outside `integrate_piecewise`)."""
+    """Raise `CheckInterrupted` when an enclosing `interruptible` block asks to stop, and
+    `CheckTimeLimit` when an enclosing `time_budget` has run out (called by every
+    integration's right-hand side, and by long checks between their own steps)."""
     if _interrupt and _interrupt[-1]():
         raise CheckInterrupted
+    if _deadlines and time.monotonic() > min(_deadlines):
+        raise CheckTimeLimit("the check stopped at the time limit")
+
+
+def bounded(rhs: Callable[..., np.ndarray]) -> Callable[..., np.ndarray]:
+    """`rhs` calling `checkpoint()` first, when a check is interruptible or has a budget
+    (a check integrates through Python right-hand sides, so this bounds it finely)."""
+    if not (_interrupt or _deadlines):
+        return rhs
+
+    def checked_rhs(*args: object) -> np.ndarray:
+        checkpoint()
+        return rhs(*args)
+
+    return checked_rhs
 
 
 @cache
@@ -87,14 +133,7 @@ def integrate_piecewise(
     """DOP853 from breakpoints[0] to breakpoints[-1], restarted at every breakpoint (where a
     piecewise control has kinks, so no step straddles one). Returns (t, Y) at the
     breakpoints, or `samples_per_piece` more samples inside each piece."""
-    if _interrupt:
-        stop, inner = _interrupt[-1], rhs
-
-        def rhs(t: float, y: np.ndarray) -> np.ndarray:
-            if stop():
-                raise CheckInterrupted
-            return inner(t, y)
-
+    rhs = bounded(rhs)
     ts, ys = [float(breakpoints[0])], [np.asarray(y0, float)]
     y = np.asarray(y0, float)
     for t0, t1 in zip(breakpoints[:-1], breakpoints[1:], strict=True):

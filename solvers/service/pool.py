@@ -28,6 +28,10 @@ from .worker import resident_bytes, worker_main
 
 Progress = Callable[[int, str], None]
 GRACE = 1.0  # s past a solve's time limit before its worker is killed
+# s a worker has to acknowledge a solve (its reader thread answers at once; the longest wait
+# for the GIL measured in a native NLP build or solve: 0.3 s). A worker that does not is
+# stopped or stuck: its job goes to another worker and it is replaced.
+ACK_TIMEOUT = 2.0
 # The workers are the parallelism: a worker's linear algebra runs on one thread, or two
 # workers' BLAS thread pools fight over the cores (measured on 2 cores: LGL warm re-solves
 # 17-23 ms on one thread, 19-100 ms on the default pool).
@@ -35,8 +39,9 @@ SINGLE_THREAD_ENV = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS
 _ENV_LOCK = threading.Lock()
 MAX_EARLY_DEATHS = 3  # workers dying before they are ready, in a row, before giving up
 RSS_BUDGET = 700 * 2**20  # bytes per worker before it empties its NLP cache or retires
-CRASHED = ("the solver process stopped unexpectedly ({why}); the last good answer is kept — "
-           "try again, or another method or node count")
+# Whether an older answer stays on screen is the caller's to say (it knows whether it has one).
+CRASHED = ("the solver process stopped unexpectedly ({why}) — try again, or another method or "
+           "node count")
 
 
 class Job:
@@ -74,6 +79,22 @@ class Job:
         """Wait until the re-propagation check has been filled into `result()`."""
         return self.checked.wait(timeout)
 
+    def checked_result(self) -> Solution:
+        """The answer with its check, waited for in short slices (Ctrl-C stays prompt). The
+        check gets what the solve left of the time limit; one not back by the hard deadline
+        (limit plus grace) is given up, and the answer says that its accuracy is unknown."""
+        while not self.done.wait(0.1):
+            pass
+        sol = self.result()
+        while not self.checked.wait(0.1):
+            if self.deadline is not None and time.monotonic() > self.deadline:
+                sol.check["error"] = float("nan")
+                sol.message += (" (the re-propagation check did not finish within the time "
+                                f"limit of {self.spec.time_limit:g} s)")
+                sol.judge()
+                break
+        return sol
+
     def cancel(self) -> None:
         self.service.cancel(self)
 
@@ -93,6 +114,7 @@ class _Worker:
         self.ready = threading.Event()
         self.prebuilt = threading.Event()  # its start-up builds are done
         self.job: Job | None = None  # the solve it runs
+        self.acked = False  # it acknowledged `job`
         self.checking: dict[int, Job] = {}  # solves whose check it still owes
         self.rss = 0
         self.alive = True  # False once it is being killed or has died
@@ -173,6 +195,10 @@ class SolveService:
             w.ready.set()
             with self._lock:
                 self._dispatch()
+        elif kind == "ack":
+            with self._lock:
+                if w.job is not None and w.job.id == msg[1]:
+                    w.acked = True
         elif kind == "progress":
             job = w.job
             if job is not None and job.id == msg[1] and job.progress is not None:
@@ -244,21 +270,39 @@ class SolveService:
             w.process.kill()
 
     def _watch(self) -> None:
-        """Kill a solve still running past its time limit plus the grace."""
+        """Move a job its worker did not acknowledge in time to another worker; kill a
+        solve still running past its time limit plus the grace."""
         while not self._closed:
             time.sleep(0.05)
             now = time.monotonic()
             with self._lock:
+                for w in self._workers:
+                    job = w.job
+                    if (w.alive and job is not None and not w.acked and job.started is not None
+                            and now > job.started + ACK_TIMEOUT):
+                        self._requeue(w, "it did not acknowledge a solve")
                 late = [w for w in self._workers if w.alive and w.job is not None
                         and w.job.deadline is not None and now > w.job.deadline]
+                expired = []
                 for w in late:
-                    job, w.job = w.job, None
-                    limit = job.spec.time_limit
-                    self._fail(job, "time-limit",
-                               f"stopped at the time limit of {limit:g} s (the solver did not "
-                               "return, so its process was stopped): raise the time limit, "
-                               "or use fewer nodes or another method")
+                    expired.append(w.job)
+                    w.job = None
                     self._kill(w, "stopped at its time limit")
+            for job in expired:  # outside the lock: answering may import the mission
+                self._fail(job, "time-limit",
+                           f"stopped at the time limit of {job.spec.time_limit:g} s (the solver "
+                           "did not return, so its process was stopped): raise the time "
+                           "limit, or use fewer nodes or another method")
+
+    def _requeue(self, w: _Worker, why: str) -> None:
+        """`w` does not answer: its job goes back to the head of the queue, for another
+        worker, and `w` is killed (and replaced)."""
+        job, w.job = w.job, None
+        if job is not None:
+            job.worker = job.started = None
+            self._queue.appendleft(job)
+        self._kill(w, why)
+        self._dispatch()
 
     def _fail(self, job: Job, status: str, message: str) -> None:
         """Answer a job the worker could not answer: an empty solution with `status`."""
@@ -305,6 +349,10 @@ class SolveService:
                         job.checked.set()
 
     def _idle(self) -> list[_Worker]:
+        """Workers ready for a solve; one found stopped (SIGSTOP) or dead is replaced."""
+        for w in self._workers:
+            if w.alive and w.job is None and not _runnable(w.process.pid):
+                self._kill(w, "it was stopped and did not answer")
         return [w for w in self._workers if w.alive and w.ready.is_set() and w.job is None]
 
     def _dispatch(self) -> None:
@@ -320,6 +368,7 @@ class SolveService:
             if job.session:
                 self._affinity[job.session] = worker.index
             worker.job, job.worker, job.started = job, worker.index, time.monotonic()
+            worker.acked = False
             worker.send(("solve", job.id, job.spec))
 
     # ---- state ------------------------------------------------------------------------------
@@ -369,7 +418,7 @@ class SolveService:
                 self._kill(w, "the workers were restarted")
 
     def close(self) -> None:
-        """Stop every worker (a running solve is killed with it)."""
+        """Stop every worker (one running a solve or owing a check is killed at once)."""
         with self._lock:
             self._closed = True
             workers = list(self._workers)
@@ -377,7 +426,10 @@ class SolveService:
                 job._finish(error="the solve service closed")
             self._queue.clear()
         for w in workers:
-            w.send(("stop",))
+            if w.job is not None or w.checking:  # busy: it would read "stop" only after
+                self._kill(w, "the solve service closed")
+            else:
+                w.send(("stop",))
         deadline = time.monotonic() + 2.0
         for w in workers:
             w.process.join(timeout=max(deadline - time.monotonic(), 0.0))
@@ -390,6 +442,17 @@ class SolveService:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+def _runnable(pid: int | None) -> bool:
+    """Whether process `pid` can run: not stopped (SIGSTOP, a debugger) nor a zombie, by
+    Linux's /proc/<pid>/stat (elsewhere: assumed so; the acknowledgement deadline covers)."""
+    try:
+        with open(f"/proc/{pid}/stat", encoding="ascii") as f:
+            state = f.read().rsplit(")", 1)[1].split()[0]
+    except (OSError, IndexError, ValueError):
+        return True
+    return state not in ("T", "t", "Z", "X")
 
 
 @contextlib.contextmanager

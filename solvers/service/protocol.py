@@ -4,7 +4,8 @@ Messages are tuples whose first item names them (all picklable):
 
 server -> worker: ("solve", job_id, SolveSpec) · ("cancel", job_id) · ("stop",) ·
                   ("reload", mission_files)
-worker -> server: ("ready", pid) · ("progress", job_id, iteration, text) ·
+worker -> server: ("ready", pid) · ("ack", job_id) (a solve received, sent at once) ·
+                  ("progress", job_id, iteration, text) ·
                   ("result", job_id, Solution) · ("error", job_id, text) (bad input) ·
                   ("check", job_id, CheckUpdate) · ("rss", bytes) · ("retire", reason) ·
                   ("prebuilt",) (its start-up builds are done)
@@ -14,7 +15,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from ..solution import Quantity, Series, Solution
+from ..solution import Label, Quantity, Series, Solution
 
 
 @dataclass(frozen=True)
@@ -48,11 +49,15 @@ class CheckUpdate:
     status: str = "optimal"
     interval_error: Series | None = None
     stats: dict[str, float] = field(default_factory=dict)
+    cost: Quantity | None = None  # with its error estimate (`solvers.cost_error`)
+    targets: dict[str, float] = field(default_factory=dict)
+    labels: dict[str, Label] = field(default_factory=dict)
 
     @staticmethod
     def of(sol: Solution) -> CheckUpdate:
         return CheckUpdate(dict(sol.check), dict(sol.quantities), dict(sol.references),
-                           sol.message, sol.status, sol.interval_error, dict(sol.stats))
+                           sol.message, sol.status, sol.interval_error, dict(sol.stats),
+                           sol.cost, dict(sol.targets), dict(sol.labels))
 
     def apply(self, sol: Solution) -> None:
         sol.check.update(self.check)
@@ -62,6 +67,10 @@ class CheckUpdate:
         sol.status = self.status
         sol.interval_error = self.interval_error
         sol.stats.update(self.stats)
+        if self.cost is not None:
+            sol.cost = self.cost
+        sol.targets.update(self.targets)
+        sol.labels.update(self.labels)
 
 
 def light_warm(sol: Solution | None) -> Solution | None:

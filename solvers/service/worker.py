@@ -55,6 +55,12 @@ class Worker:
         self.current: tuple[int, threading.Event] | None = None
         self.dropped: set[int] = set()
         self.lock = threading.Lock()
+        self.send_lock = threading.Lock()  # the reader thread sends too (acknowledgements)
+
+    def send(self, msg: tuple) -> None:
+        """One message to the service (from either thread)."""
+        with self.send_lock:
+            self.conn.send(msg)
 
     # ---- the reader thread ---------------------------------------------------------------
     def read(self) -> None:
@@ -65,6 +71,7 @@ class Worker:
                 os._exit(0)  # the service is gone
             kind = msg[0]
             if kind == "solve":
+                self.send(("ack", msg[1]))  # at once: the service knows this worker runs
                 self.solve_waiting.set()
                 self.inbox.put(msg)
             elif kind == "cancel":
@@ -77,7 +84,7 @@ class Worker:
 
     # ---- the main thread -----------------------------------------------------------------
     def run(self) -> None:
-        self.conn.send(("ready", os.getpid()))
+        self.send(("ready", os.getpid()))
         while True:
             try:
                 msg = self.inbox.get(block=not (self.checks or self.prebuild))
@@ -89,7 +96,7 @@ class Worker:
                 if msg[0] == "reload":
                     errors = load_mission_files(msg[1])
                     if errors:
-                        self.conn.send(("mission-errors", errors))
+                        self.send(("mission-errors", errors))
                     continue
                 self.solve(msg[1], msg[2])
                 if self.inbox.empty():
@@ -112,7 +119,7 @@ class Worker:
             now = time.monotonic()
             if now - last[0] >= PROGRESS_INTERVAL:
                 last[0] = now
-                self.conn.send(("progress", job_id, iteration, text))
+                self.send(("progress", job_id, iteration, text))
 
         if spec.test_hook and self.test_hooks:
             self.misbehave(spec.test_hook)
@@ -128,16 +135,16 @@ class Worker:
                                     progress=progress, cancel=cancel,
                                     time_limit=spec.time_limit, verify=False)
         except ValueError as exc:
-            self.conn.send(("error", job_id, str(exc)))
+            self.send(("error", job_id, str(exc)))
             return
         finally:
             with self.lock:
                 self.current = None
-        self.conn.send(("result", job_id, sol))
+        self.send(("result", job_id, sol))
         if spec.verify and sol.checker is not None:
             self.checks.append((job_id, sol))
         elif spec.verify:  # checked already (an "auto" or multi-start solve), or no check
-            self.conn.send(("check", job_id, CheckUpdate.of(sol)))
+            self.send(("check", job_id, CheckUpdate.of(sol)))
 
     def check_one(self) -> None:
         job_id, sol = self.checks.popleft()
@@ -150,7 +157,7 @@ class Worker:
         except CheckInterrupted:
             self.checks.appendleft((job_id, sol))
             return
-        self.conn.send(("check", job_id, CheckUpdate.of(sol)))
+        self.send(("check", job_id, CheckUpdate.of(sol)))
 
     def build_one(self) -> None:
         """One start-up build: solve a mission's default case with a method, cold and then
@@ -170,7 +177,7 @@ class Worker:
         if cancel.is_set():
             self.prebuild.appendleft((key, method))
         elif not self.prebuild:
-            self.conn.send(("prebuilt",))
+            self.send(("prebuilt",))
 
     def mind_memory(self) -> None:
         rss = resident_bytes()
@@ -178,9 +185,9 @@ class Worker:
             clear_built()
             rss = resident_bytes()
             if rss > self.rss_budget:
-                self.conn.send(("retire", f"memory {rss / 2**20:.0f} MB over the budget"))
+                self.send(("retire", f"memory {rss / 2**20:.0f} MB over the budget"))
                 os._exit(0)
-        self.conn.send(("rss", rss))
+        self.send(("rss", rss))
 
     def misbehave(self, hook: str) -> None:
         """Test-only faults: hang in native code (SIGSTOP: nothing of the process runs, not

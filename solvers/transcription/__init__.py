@@ -13,11 +13,13 @@ from .direct import DirectTranscription
 from .hermite_simpson import HermiteSimpson
 from .multiple_shooting import MultipleShooting
 from .pseudospectral import LGLPseudospectral
+from .scvx import SCvxHermiteSimpson
 
 TRANSCRIPTIONS: dict[str, type[DirectTranscription]] = {
     "hermite-simpson": HermiteSimpson,
     "multiple-shooting": MultipleShooting,
     "lgl": LGLPseudospectral,
+    "scvx": SCvxHermiteSimpson,
 }
 
 

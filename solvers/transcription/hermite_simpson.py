@@ -16,7 +16,7 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
-from .costates import CostatePoints, Endpoints
+from .costates import CostatePoints, Endpoints, transversality
 from .direct import DirectTranscription
 
 
@@ -86,12 +86,17 @@ class HermiteSimpson(DirectTranscription):
         2000, Numer. Math. 87). The multiplier is the costate averaged over the interval, so
         the midpoint value is second-order: measured order 2 in the mesh size (lunar landing
         against its Pontryagin extremal; 4 where the costate is linear in t, as for the
-        hovercraft; tests/core/test_costates.py)."""
+        hovercraft; tests/core/test_costates.py). At t0 and tf, where a textbook states its
+        costates, the closure conditions give them: the transversality conditions from the
+        end multipliers (`costates.transversality`, as for LGL)."""
         F = self._node_slopes(X, U, p)
         h = np.diff(self.tau) * T
         Xm = (X[:-1] + X[1:]) / 2 + h[:, None] / 8 * (F[:-1] - F[1:])
         Um = (U[:-1] + U[1:]) / 2
-        return CostatePoints((self.tau[:-1] + self.tau[1:]) / 2 * T, -mu, Xm, Um)
+        lam0, lamf = transversality(self.ocp, ends, p)
+        t = np.concatenate([[0.0], (self.tau[:-1] + self.tau[1:]) / 2 * T, [T]])
+        return CostatePoints(t, np.vstack([lam0, -mu, lamf]), np.vstack([X[0], Xm, X[-1]]),
+                             np.vstack([U[0], Um, U[-1]]))
 
     def _node_slopes(self, X: np.ndarray, U: np.ndarray, p: np.ndarray) -> np.ndarray:
         N = self.N

@@ -43,6 +43,16 @@ def caller_location() -> str:
     return ""
 
 
+def refine(where: str, finder: Callable[[Path, int], int | None]) -> str:
+    """'file:line' moved to the line `finder(path, line)` finds in that file (the keyword or
+    key at fault inside a call that spans several lines); `where` as it was otherwise."""
+    name, _, line = where.rpartition(":")
+    if not name or not line.isdigit():
+        return where
+    found = finder(Path(name), int(line))
+    return f"{name}:{found}" if found else where
+
+
 def function_location(fn: Callable[..., Any]) -> str:
     """'file:line' where a user's function is defined ('' for a builtin)."""
     code = getattr(fn, "__code__", None)

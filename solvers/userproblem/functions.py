@@ -17,6 +17,7 @@ import numpy as np
 
 from .declaration import Declaration
 from .errors import DeclarationError, call_user, function_location, one_line
+from .locate import numeric_call_line
 from .records import Named
 
 
@@ -133,24 +134,41 @@ def trace(decl: Declaration) -> Traced:
 def check_finite(traced: Traced, decl: Declaration, x0: np.ndarray, xf: np.ndarray,
                  u: np.ndarray, p: np.ndarray) -> None:
     """Every function is finite on the cold-start guess (a NaN there stops any solver)."""
-    checks = [("dynamics", decl.state_names, traced.f(x0, u, p),
+    checks = [("dynamics", decl.state_names, traced.f(x0, u, p), decl.dynamics,
                function_location(decl.dynamics))]
     if traced.lagrange is not None:
-        checks.append(("lagrange", ("value",), traced.lagrange(x0, u, p),
+        checks.append(("lagrange", ("value",), traced.lagrange(x0, u, p), decl.lagrange,
                        function_location(decl.lagrange)))
     if traced.mayer is not None:
-        checks.append(("mayer", ("value",), traced.mayer(xf, p), function_location(decl.mayer)))
+        checks.append(("mayer", ("value",), traced.mayer(xf, p), decl.mayer,
+                       function_location(decl.mayer)))
     if traced.path is not None:
         values = np.asarray(traced.path(x0, u, p), float).ravel()
-        checks += [(f"path constraint '{c.name}'", ("value",), v, c.where)
+        checks += [(f"path constraint '{c.name}'", ("value",), v, c.fn, c.where)
                    for c, v in zip(decl.path, values, strict=True)]
-    for what, names, value, where in checks:
+    for what, names, value, fn, where in checks:
         values = np.asarray(value, float).ravel()
         bad = [(n, v) for n, v in zip(names, values, strict=True) if not np.isfinite(v)]
-        if bad:
-            raise DeclarationError(f"{what} is not finite ({bad[0][0]} = {bad[0][1]}) at the "
-                                   f"start of the cold-start guess: x = {_fmt(x0)}, "
-                                   f"u = {_fmt(u)}", where)
+        if not bad:
+            continue
+        numeric = numeric_call_line(fn)
+        if numeric is not None:
+            line, name = numeric
+            raise DeclarationError(
+                f"{what} is not finite ({bad[0][0]} = {bad[0][1]}): {name} computes with "
+                f"numbers, and a state, control or parameter here is a CasADi symbol: use "
+                f"CasADi's function instead (ca.{name.split('.')[-1]} after `import casadi as "
+                f"ca`, or `from casadi import {name.split('.')[-1]}`)",
+                f"{code_file(fn)}:{line}")
+        raise DeclarationError(f"{what} is not finite ({bad[0][0]} = {bad[0][1]}) at the "
+                               f"start of the cold-start guess: x = {_fmt(x0)}, "
+                               f"u = {_fmt(u)}", where)
+
+
+def code_file(fn: Callable[..., Any]) -> str:
+    """The file that defines a user's function."""
+    code = getattr(fn, "__code__", None)
+    return code.co_filename if code is not None else ""
 
 
 def _fmt(v: np.ndarray) -> str:

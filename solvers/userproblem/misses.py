@@ -9,9 +9,11 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..problem import validate_values
+from ..solution import Label
 from .declaration import Declaration, resolve
-from .errors import DeclarationError
+from .errors import DeclarationError, refine
 from .functions import Traced
+from .locate import dict_key_line
 from .records import unit_key
 
 if TYPE_CHECKING:
@@ -27,6 +29,19 @@ def miss_names(decl: Declaration) -> list[str]:
     constraint (e.g. "v_miss_m_s")."""
     names = [f"{s.name}_miss{unit_key(s.unit)}" for s in decl.states if s.final is not None]
     return names + [f"{c.name}_miss{unit_key(c.unit)}" for c in decl.final]
+
+
+def screen_labels(decl: Declaration) -> dict[str, Label]:
+    """The screen name of each state, control and miss (`Solution.labels`): the label the
+    file gives (else the name) and the unit."""
+    labels = {r.name: Label(r.label or r.name, r.unit) for r in (*decl.states, *decl.controls)}
+    for s in decl.states:
+        if s.final is not None:
+            labels[f"{s.name}_miss{unit_key(s.unit)}"] = Label(f"final {s.label or s.name} miss",
+                                                               s.unit)
+    for c in decl.final:
+        labels[f"{c.name}_miss{unit_key(c.unit)}"] = Label(f"final {c.name} miss", c.unit)
+    return labels
 
 
 def final_misses(decl: Declaration, traced: Traced, p: np.ndarray, x_final: np.ndarray
@@ -66,7 +81,9 @@ def check_names(mission: UserMission, where: str) -> None:
     for key in mission.tolerances:
         if key not in misses:
             raise DeclarationError(f"tolerances: '{key}' is not a re-propagated miss (misses: "
-                                   f"{', '.join(misses) or 'none: no final condition'})", where)
+                                   f"{', '.join(misses) or 'none: no final condition'})",
+                                   refine(where, lambda path, line, k=key: dict_key_line(
+                                       path, line, "tolerances", k)))
     cases = [(p.name, p.case.values) for p in mission.published if p.case is not None]
     for name, values in [(p.name, p.values) for p in mission.presets] + cases:
         try:

@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from ..handles import Handle, Sphere, check_bindings
 from ..methods import HERMITE_SIMPSON, LGL, MULTIPLE_SHOOTING
 from ..mission import Infeasible, Mission, SolveContext
 from ..ocp import OCP, OCPResult
@@ -23,13 +24,32 @@ from ..solution import Quantity, Solution
 from . import view
 from .build import build_ocp, guess_controls, guess_states, parameter_vector
 from .declaration import Declaration, check, resolve
-from .errors import DeclarationError, caller_location
+from .errors import DeclarationError, caller_location, function_location
 from .functions import check_finite, trace
-from .misses import check_names, final_misses
+from .misses import check_names, final_misses, screen_labels
 from .records import Control, FinalConstraint, FreeTime, PathConstraint, State
 
 DEFAULT_METHODS = (HERMITE_SIMPSON, LGL, MULTIPLE_SHOOTING)
 KEY_CHARACTERS = set("abcdefghijklmnopqrstuvwxyz0123456789-")
+
+
+def _check_position(decl: Declaration) -> None:
+    """A position function runs once on the cold-start guess and must give finite
+    coordinates there (a NaN would draw nothing, with no word why)."""
+    if not callable(decl.position):
+        return
+    values = decl.defaults
+    states = np.vstack(guess_states(decl, values))
+    path = view._positions(decl, states, parameter_vector(decl, values))
+    if not np.all(np.isfinite(path)):
+        row = int(np.flatnonzero(~np.all(np.isfinite(path), axis=1))[0])
+        raise DeclarationError(f"position is not finite ({_coords(path[row])}) at the "
+                               f"cold-start guess's {('start', 'end')[row]}: x = "
+                               f"{_coords(states[row])}", function_location(decl.position))
+
+
+def _coords(v: np.ndarray) -> str:
+    return "[" + ", ".join(f"{float(a):g}" for a in v) + "]"
 
 
 class UserMission(Mission):
@@ -70,6 +90,8 @@ class UserMission(Mission):
         consistency: tuple[Consistency, ...] = (),
         presets: tuple[Preset, ...] = (),
         equations: tuple[tuple[str, str], ...] = (),
+        handles: tuple[Handle, ...] = (),
+        shapes: tuple[Sphere, ...] = (),
     ) -> None:
         where = caller_location()
         self.declaration = Declaration(
@@ -86,6 +108,7 @@ class UserMission(Mission):
         self.tolerances = dict(tolerances or {})
         self.consistency = consistency
         self.cost_label, self.cost_unit = cost_label, cost_unit
+        self.handles, self.shapes = tuple(handles), tuple(shapes)  # dragged in the 3D view
         self._check_records(where)
         check(self.declaration)
         self._traced = trace(self.declaration)
@@ -95,7 +118,8 @@ class UserMission(Mission):
         self._ocp = build_ocp(self.declaration, self._traced)
         self._structure = self.declaration.structure()  # tells warm starts that fit
         check_names(self, where)
-        view.check_position(self.declaration)
+        self.labels = screen_labels(self.declaration)
+        _check_position(self.declaration)
 
     def _check_records(self, where: str) -> None:
         if not self.key or set(self.key) - KEY_CHARACTERS:
@@ -107,6 +131,10 @@ class UserMission(Mission):
             if m.transcription is None:
                 raise DeclarationError(f"method '{m.key}' is not a general method (use "
                                        "HERMITE_SIMPSON, LGL or MULTIPLE_SHOOTING)", where)
+        try:
+            check_bindings((*self.handles, *(s.handle for s in self.shapes)), self.params, ())
+        except ValueError as exc:
+            raise DeclarationError(str(exc), where) from None
 
     # ---- the general direct path ---------------------------------------------------------
     def ocp(self, method: Method, values: dict[str, float]) -> OCP:

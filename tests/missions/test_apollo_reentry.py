@@ -62,7 +62,7 @@ def test_published_cost_is_not_reproduced_as_spec_says(fine_direct):
 
 def test_papers_ten_intervals_are_coarse_but_above_the_optimum(fine_direct):
     coarse = MISSION.solve(method="multiple-shooting", nodes=10)
-    assert coarse.ok, coarse.message
+    assert coarse.converged, coarse.message  # "inaccurate" by its cost error (issue 17)
     # Linear control on 10 intervals is a restriction of the control space: J can only rise.
     assert fine_direct.cost.value < coarse.cost.value < 1.02 * fine_direct.cost.value
 

@@ -28,7 +28,8 @@ def test_the_error_in_time_falls_with_the_mesh(method):
     lo, default, _ = MISSION.method(method).nodes
     coarse = MISSION.solve(method=method, nodes=max(lo, default // 4))
     fine = MISSION.solve(method=method, nodes=default)
-    assert coarse.ok and fine.ok
+    # Converged; a coarse mesh is "inaccurate" by its cost error estimate (issue 17).
+    assert coarse.converged and fine.converged
     assert abs(fine.quantities["T_error"].value) < abs(coarse.quantities["T_error"].value)
     assert fine.quantities["T_analytic"].value == pytest.approx(2.0, abs=1e-15)
 

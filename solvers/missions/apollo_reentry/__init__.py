@@ -45,10 +45,11 @@ class ApolloReentry(Mission):
     summary = "Steer the lift of an Apollo-type capsule to minimise the convective heat load."
     source = problem.PAPER
     params = problem.PARAMS
+    handles = problem.HANDLES
     view_params = problem.VIEW_PARAMS
     methods = (
         MULTIPLE_SHOOTING.replace(
-            nodes=(4, 20, 60), backends=("ipopt", "sqp"),
+            nodes=(4, 40, 60), backends=("ipopt", "sqp"),
             summary=MULTIPLE_SHOOTING.summary + " RK4 steps of about 3 s. IPOPT is the "
             "default: CasADi's SQP with a BFGS Hessian (the paper's kind of solver) leaves "
             "the atmosphere from the paper's guess and stalls even when started at the "
@@ -62,6 +63,7 @@ class ApolloReentry(Mission):
     presets = problem.PRESETS
     equations = problem.EQUATIONS
     tolerances = problem.TOLERANCES
+    labels = problem.LABELS
     consistency = problem.CONSISTENCY
     cost_label = "heat load J"
     cost_unit = problem.COST_UNIT

@@ -9,11 +9,12 @@ from functools import cache
 import casadi as ca
 import numpy as np
 
+from ...handles import Axis, Handle
 from ...mission import Infeasible
 from ...nlp.cache import built_once
 from ...ocp import OCP, Bounds, Guess, OCPResult
 from ...problem import Consistency, Param, Preset, Published
-from ...solution import Iterate, Quantity, Solution
+from ...solution import Iterate, Label, Quantity, Solution
 from ...transcription.costates import rescale
 from . import model
 
@@ -71,6 +72,13 @@ VIEW_PARAMS = (
     Param("exaggerate", "exaggerate altitude", "×", 20.0, 1.0, 100.0, 1.0, group="Display",
           help="Display only: altitudes are drawn this many times higher so the path "
                "stands off the Earth."),
+)
+
+# Dragged in the 3D view: the entry point moves along the local vertical (Earth-centred,
+# entry on +x at R_EARTH + exaggeration × altitude).
+HANDLES = (
+    Handle("entry", "entry altitude",
+           (Axis("h0", offset=model.R_EARTH, view="exaggerate"), 0.0, 0.0)),
 )
 
 _EXAMPLE_2 = "paper 004, example 2"
@@ -161,7 +169,12 @@ def check_values(values: dict[str, float]) -> None:
 
 
 def precheck(values: dict[str, float]) -> None:
-    """Boundary values outside the state bounds make the request impossible."""
+    """Refuse a request that violates a necessary condition of the bounds, naming it.
+
+    The boundary values must lie inside the state bounds. Gravity is conservative and drag
+    (C_D >= 1.174 - 0.9 > 0) only dissipates, so E = v²/2 - g R²/(R + h) cannot rise. And
+    ḣ = v sin γ with v <= v_max and γ_min <= γ <= γ_max bounds the climb and the descent
+    over at most T_max."""
     checks = (("v0", "v_min", "v_max"), ("vf", "v_min", "v_max"),
               ("gamma0", "gamma_min", "gamma_max"), ("gammaf", "gamma_min", "gamma_max"))
     for key, lo, hi in checks:
@@ -171,6 +184,38 @@ def precheck(values: dict[str, float]) -> None:
     for key in ("h0", "hf"):
         if values[key] > values["h_max"]:
             raise Infeasible(f"{key} = {values[key]:g} m is above h_max = {values['h_max']:g} m")
+    _precheck_energy(values)
+    _precheck_altitude(values)
+
+
+def _precheck_energy(values: dict[str, float]) -> None:
+    """Drag only removes energy: the final speed is at most what the height lost gives."""
+    mu = model.G * model.LENGTH_UNIT * model.R_EARTH ** 2  # g R², m³/s²
+
+    def energy(v: float, h: float) -> float:
+        return v ** 2 / 2 - mu / (model.R_EARTH + h)
+
+    reachable = float(np.sqrt(2 * (energy(values["v0"], values["h0"])
+                                   + mu / (model.R_EARTH + values["hf"]))))
+    if values["vf"] > reachable:
+        raise Infeasible(
+            f"vf = {values['vf']:g} m/s needs more energy than the capsule has: drag only "
+            f"removes energy, so from v0 = {values['v0']:g} m/s at h0 = {values['h0']:g} m "
+            f"the speed at hf = {values['hf']:g} m is at most {reachable:.6g} m/s")
+
+
+def _precheck_altitude(values: dict[str, float]) -> None:
+    """The altitude changes at most v_max sin(γ) per second, within the γ bounds."""
+    change, horizon = values["hf"] - values["h0"], values["T_max"] * values["v_max"]
+    if change < 0:
+        limit, bound, word = horizon * np.sin(-values["gamma_min"]), "gamma_min", "descend"
+    else:
+        limit, bound, word = horizon * np.sin(values["gamma_max"]), "gamma_max", "climb"
+    if abs(change) > limit:
+        raise Infeasible(
+            f"the capsule cannot {word} {abs(change):g} m: with {bound} = "
+            f"{values[bound]:g} rad, v ≤ v_max = {values['v_max']:g} m/s and T ≤ T_max = "
+            f"{values['T_max']:g} s it changes altitude by at most {limit:.4g} m")
 
 
 def substeps(nodes: int) -> int:
@@ -262,3 +307,17 @@ def augmented() -> ca.Function:
     p = ca.SX.sym("p", N_PARAMS)
     return ca.Function("reentry_aug", [x, u, p],
                        [ca.vertcat(model.rhs(x[:3], u[0]), model.heating_rate(x[:3]))])
+
+
+# Screen names of the states, controls and re-propagation check entries (keys of
+# `Solution.check`), with the SI unit of each value.
+LABELS = {
+    "v": Label("speed", "m/s"),
+    "gamma": Label("flight-path angle", "rad"),
+    "h": Label("altitude", "m"),
+    "u": Label("angle of attack", "rad"),
+    "speed_miss_m_s": Label("final speed miss", "m/s"),
+    "gamma_miss_rad": Label("final flight-path angle miss", "rad"),
+    "altitude_miss_m": Label("final altitude miss", "m"),
+    "J_repropagated_rel_error": Label("heat load re-propagated (relative error)"),
+}

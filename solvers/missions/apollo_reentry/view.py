@@ -65,6 +65,7 @@ def present(sol: Solution, view: Mapping[str, float]) -> Presentation:
         iterates=[(it.iteration, display(model.downrange(it.t, it.x), it.x[:, 2], k))
                   for it in sol.history],
         vehicle=sol.mission,
+        arrow_name="aerodynamic force direction (lift + drag)",
     )
 
 

@@ -32,6 +32,7 @@ class AsteroidRendezvous(Mission):
     presets = problem.PRESETS
     equations = problem.EQUATIONS
     tolerances = problem.TOLERANCES
+    labels = problem.LABELS
     consistency = problem.CONSISTENCY
     cost_label = "fuel"
     cost_unit = "kg"

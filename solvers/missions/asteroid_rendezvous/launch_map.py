@@ -165,7 +165,7 @@ def figure(m: LaunchMap, c3_max: float = 20.0) -> Any:
 
 def save(m: LaunchMap, out: Path, c3_max: float = 20.0, png: bool = True) -> list[Path]:
     """Write the data (NPZ and CSV) and, if asked and a renderer is installed, the PNG."""
-    out.mkdir(parents=True, exist_ok=True)
+    out.mkdir(exist_ok=True)  # its parent must exist: a mistyped path creates no folders
     written = [out / "launch_c3.npz", out / "launch_c3.csv"]
     np.savez(written[0], launch_mjd=m.launch_mjd, tof_days=m.tof_days, c3_km2_s2=m.c3,
              elements=m.elements)
@@ -204,9 +204,23 @@ def _write_png(m: LaunchMap, path: Path, c3_max: float) -> bool:
     return True
 
 
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> None:  # one line and exit 2, as the rest of the CLI
+        self.exit(2, f"error: {message}\n")
+
+
+def _bad_out(out: Path) -> str | None:
+    """Why --out cannot be the output folder (None: it can); checked before any work."""
+    if out.exists() and not out.is_dir():
+        return f"--out {out}: that is a file, not a folder"
+    if not out.exists() and not out.resolve().parent.is_dir():
+        return f"--out {out}: the folder {out.parent} does not exist"
+    return None
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m solvers launch-map", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = _Parser(prog="python -m solvers launch-map", description=__doc__,
+                     formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--out", required=True, type=Path, help="output directory")
     parser.add_argument("--start", default=DEFAULT_START, help="first launch date (ISO)")
     parser.add_argument("--end", default=DEFAULT_END, help="last launch date (ISO, excluded)")
@@ -220,6 +234,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--c3-max", type=float, default=20.0, help="contour top [km²/s²]")
     parser.add_argument("--no-png", action="store_true", help="write the data files only")
     args = parser.parse_args(argv)
+    bad = _bad_out(args.out)
+    if bad is None and args.workers is not None and args.workers < 1:
+        bad = f"--workers must be at least 1, not {args.workers}"
+    if bad is not None:
+        print(f"error: {bad}", file=sys.stderr)
+        return 2
     try:
         elements = ELEMENT_SETS[("B", "A").index(args.elements)]
         m = compute_launch_map(args.start, args.end, (*args.tof[:2], int(args.tof[2])),

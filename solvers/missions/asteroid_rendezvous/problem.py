@@ -17,6 +17,7 @@ import numpy as np
 from ...dynamics.ephemeris import DAY, ELEMENT_SETS, MJD_2022, TU, VU
 from ...ocp import OCP, BoundaryPoint, Bounds, Guess
 from ...problem import Consistency, Param, Preset, Published
+from ...solution import Label
 from .guess import CHOSEN_DATES, GUESS_OPTIONS, MIN_TOF_DAYS
 from .model import (
     ACC,
@@ -242,3 +243,19 @@ def ocp() -> OCP:
         # IPOPT's adaptive barrier update: ~50 iterations here instead of ~200 (monotone).
         nlp_options={"ipopt.mu_strategy": "adaptive"},
     )
+
+
+# Screen names of the states, controls and re-propagation check entries (keys of
+# `Solution.check`), with the SI unit of each value.
+LABELS = {
+    "m": Label("mass", "kg"),
+    "Fx": Label("thrust x", "N"),
+    "Fy": Label("thrust y", "N"),
+    "Fz": Label("thrust z", "N"),
+    "dvx": Label("impulse Δv x", "m/s"),
+    "dvy": Label("impulse Δv y", "m/s"),
+    "dvz": Label("impulse Δv z", "m/s"),
+    "arrival_position_miss_m": Label("arrival position miss", "m"),
+    "arrival_velocity_miss_m_s": Label("arrival velocity miss", "m/s"),
+    "final_mass_difference_kg": Label("final mass difference", "kg"),
+}

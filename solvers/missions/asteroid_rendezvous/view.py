@@ -71,6 +71,7 @@ def present(sol: Solution, view: Mapping[str, float]) -> Presentation:
         iterates=[(it.iteration, it.x[:, 0:3]) for it in sol.history],
         time_unit="d",
         time_scale=1.0 / DAY,
+        arrow_name="impulse direction" if impulsive else "thrust direction",
     )
 
 
@@ -99,7 +100,7 @@ def date_markers(sol: Solution, tracks: Mapping[str, np.ndarray], launch: float,
     impulsive method's mid-course impulses."""
     markers = [Marker(f"launch {iso_from_mjd(launch)}", tuple(tracks["Earth"][0]), palette.START),
                Marker(f"arrival {iso_from_mjd(arrival)}", tuple(tracks["Kamoʻoalewa"][-1]),
-                      palette.TARGET)]
+                      palette.TARGET, anchor="top-left")]  # below: a year on, Earth is close
     if sol.method == "impulsive":
         for t, x in zip(sol.node_t[1:-1], sol.node_x[1:-1], strict=True):
             markers.append(Marker(f"impulse {iso_from_mjd(launch + t / DAY)}", tuple(x[0:3]),

@@ -12,8 +12,10 @@ from functools import cache
 import casadi as ca
 import numpy as np
 
+from ...handles import Handle
 from ...ocp import OCP, Bounds, Guess
 from ...problem import Consistency, Param, Preset, Published
+from ...solution import Label
 
 SOURCE = "textbook minimum-time problem (Kirk 1970, ex. 5.3-1; Bryson & Ho 1975, §7.3)"
 P_D, P_A = range(2)
@@ -22,6 +24,9 @@ PARAMS = (
     Param("distance", "distance d", "m", 1.0, 0.1, 100.0, 0.1, group="Problem"),
     Param("accel", "acceleration bound a", "m/s²", 1.0, 0.1, 10.0, 0.1, group="Problem"),
 )
+
+# Dragged in the 3D view: the target along the rail (the phase plane's x axis).
+HANDLES = (Handle("target", "target", ("distance", 0.0, 0.0)),)
 
 # T* = 2 sqrt(d/a) = 2 s at the defaults. A direct method places the switch between nodes,
 # so T converges like the node spacing: within 2e-3 relative at the default meshes.
@@ -71,3 +76,14 @@ def ocp() -> OCP:
         x_scale=np.array([1.0, 1.0]), u_scale=np.array([1.0]), T_scale=1.0,
         mayer=lambda xf, T, p: T,
     )
+
+
+# Screen names of the states, controls and re-propagation check entries (keys of
+# `Solution.check`), with the SI unit of each value.
+LABELS = {
+    "x": Label("position", "m"),
+    "v": Label("velocity", "m/s"),
+    "u": Label("acceleration", "m/s²"),
+    "position_miss_m": Label("final position miss", "m"),
+    "velocity_miss_m_s": Label("final velocity miss", "m/s"),
+}

@@ -15,9 +15,9 @@ from ...methods import HERMITE_SIMPSON, MULTIPLE_SHOOTING
 from ...mission import Mission, SolveContext
 from ...ocp import OCP, OCPResult
 from ...problem import Method
-from ...solution import Series, Solution
+from ...solution import Quantity, Series, Solution
 from . import problem, view
-from .methods import PAPER_METHOD, solve_paper
+from .methods import PAPER_METHOD, control_burn_time, solve_paper
 from .primer import switching
 
 
@@ -27,6 +27,7 @@ class CWRendezvous(Mission):
     summary = "Minimum burn time rendezvous with a target in a circular orbit, fixed time."
     source = problem.PAPER
     params = problem.PARAMS
+    handles = problem.HANDLES
     view_params = problem.VIEW_PARAMS
     methods = (
         PAPER_METHOD,
@@ -46,6 +47,7 @@ class CWRendezvous(Mission):
     presets = problem.PRESETS
     equations = problem.EQUATIONS
     tolerances = problem.TOLERANCES
+    labels = problem.LABELS
     consistency = problem.CONSISTENCY
     cost_label = "burn time"
     cost_unit = "s"
@@ -65,7 +67,9 @@ class CWRendezvous(Mission):
         sol.arcs = problem.arcs_from_throttle(res.t_nodes,
                                               res.U[:, 3] > problem.THROTTLE_ON * accel)
         sol.message = problem.explain(res.status, res.message, sol.values, "free-structure")
-        sol.quantities = problem.quantities(res.cost, accel, sol.arcs)
+        burn = control_burn_time(res.controls, res.t_nodes, accel)  # the cost of what is drawn
+        sol.cost = Quantity(burn, sol.cost.label, sol.cost.unit)
+        sol.quantities = problem.quantities(burn, accel, sol.arcs, surrogate=float(res.cost))
         sol.control_names, sol.control_units = problem.CONTROLS, problem.CONTROL_UNITS
         sol.node_u, sol.u = res.U[:, :3], res.U_dense[:, :3]
         if sol.costates is not None:

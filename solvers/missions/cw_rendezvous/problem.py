@@ -18,11 +18,12 @@ from ...dynamics.clohessy_wiltshire import (
     mean_motion,
     nonlinear_relative_miss,
 )
+from ...handles import Handle
 from ...mission import Infeasible
 from ...ocp import OCP, Bounds, Guess
 from ...optimality import PMP_COSTATES, PMP_TRAJECTORY, record_costate_error
 from ...problem import Consistency, Param, Preset, Published
-from ...solution import Quantity, Series, Solution
+from ...solution import Label, Quantity, Series, Solution
 from ...transcription.costates import costate_units
 from ...verify import repropagate
 from .primer import fit_initial_costate, min_acceleration, solve_primer, switching
@@ -61,6 +62,10 @@ VIEW_PARAMS = (
     Param("magnify", "relative-motion magnification", "", 50.0, 1.0, 2000.0, 1.0,
           group="Display", help="Inertial view: relative motion drawn this many times larger."),
 )
+
+# Dragged in the 3D view: the chaser's start, in the target orbital frame (metres; the
+# magnified inertial view has no handle: its axes turn with the orbit).
+HANDLES = (Handle("start", "chaser start", ("x0", "y0", "z0"), views={"view": 0}),)
 
 _SIZE = "paper 000, section 3 (coplanar case, 2 burns × 12 sub-intervals, 26 nodes)"
 PUBLISHED = (
@@ -179,12 +184,16 @@ def arcs_from_throttle(t: np.ndarray, burning: np.ndarray) -> list[tuple[float, 
     return arcs
 
 
-def quantities(cost: float, accel: float, arcs: list[tuple[float, float, str]]
-               ) -> dict[str, Quantity]:
-    """Burn time (the cost), Δv = a × burn time, the number of burns, burn time from arcs."""
+def quantities(cost: float, accel: float, arcs: list[tuple[float, float, str]],
+               surrogate: float | None = None) -> dict[str, Quantity]:
+    """Burn time (the cost), the NLP's surrogate of it beside it (if any), Δv = a × burn
+    time, the number of burns, burn time from arcs."""
     burn = sum(b - a for a, b, kind in arcs if kind == "burn")
+    extra = {} if surrogate is None else {
+        "surrogate_burn_time": Quantity(surrogate, "NLP surrogate ∫s/a dt", "s")}
     return {
         "burn_time": Quantity(float(cost), "burn time", "s"),
+        **extra,
         "delta_v": Quantity(float(cost * accel), "Δv", "m/s"),
         "burns": Quantity(float(sum(kind == "burn" for *_, kind in arcs)), "burns", ""),
         "arc_burn_time": Quantity(float(burn), "burn time from arcs", "s"),
@@ -231,3 +240,16 @@ def store_primer(sol: Solution, p: np.ndarray) -> None:
     sol.quantities["burn_time_pontryagin"] = Quantity(ext.burn_time,
                                                       "burn time (primer vector)", "s")
     record_costate_error(sol)
+
+
+# Screen names of the states, controls and re-propagation check entries (keys of
+# `Solution.check`), with the SI unit of each value.
+LABELS = {
+    "ax": Label("thrust acceleration, radial", "m/s²"),
+    "ay": Label("thrust acceleration, along-track", "m/s²"),
+    "az": Label("thrust acceleration, cross-track", "m/s²"),
+    "position_m": Label("arrival position miss", "m"),
+    "velocity_m_s": Label("arrival velocity miss", "m/s"),
+    "nonlinear_position_m": Label("arrival position miss (nonlinear model)", "m"),
+    "nonlinear_velocity_m_s": Label("arrival velocity miss (nonlinear model)", "m/s"),
+}

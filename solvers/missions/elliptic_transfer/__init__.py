@@ -30,6 +30,7 @@ class EllipticTransfer(Mission):
     presets = problem.PRESETS
     equations = problem.EQUATIONS
     tolerances = problem.TOLERANCES
+    labels = problem.LABELS
     consistency = problem.CONSISTENCY
     cost_label = problem.COST_LABEL
     cost_unit = problem.COST_UNIT

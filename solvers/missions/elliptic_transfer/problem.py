@@ -9,7 +9,7 @@ import numpy as np
 from ...dynamics.tschauner_hempel import R_EARTH
 from ...mission import Infeasible
 from ...problem import Consistency, Param, Preset, Published
-from ...solution import Quantity
+from ...solution import Label, Quantity
 from .laws import LawResult
 from .model import Case
 
@@ -155,3 +155,18 @@ def quantities(case: Case, res: LawResult) -> dict[str, Quantity]:
         "law_terminal_position": Quantity(float(np.linalg.norm(res.X[-1, :3] - case.xT[:3])),
                                           "terminal position of the law's states", "m"),
     }
+
+
+# Screen names of the states, controls and re-propagation check entries (keys of
+# `Solution.check`), with the SI unit of each value.
+LABELS = {
+    "ux": Label("control acceleration, radial", "m/s²"),
+    "uy": Label("control acceleration, along-track", "m/s²"),
+    "uz": Label("control acceleration, cross-track", "m/s²"),
+    "position_m": Label("arrival position miss", "m"),
+    "velocity_m_s": Label("arrival velocity miss", "m/s"),
+    "nonlinear_position_m": Label("arrival position miss (nonlinear model)", "m"),
+    "nonlinear_velocity_m_s": Label("arrival velocity miss (nonlinear model)", "m/s"),
+    "J_gramian_m2_s3": Label("J by the Gramian", "m²/s³"),
+    "J_relative_difference": Label("J against the Gramian (relative)"),
+}

@@ -23,6 +23,7 @@ class Hovercraft(Mission):
     summary = "Steer a constant thrust to reach a point and velocity in the least time."
     source = problem.PAPER
     params = problem.PARAMS
+    handles = problem.HANDLES
     # SQP first for multiple shooting, as in the paper.
     methods = (MULTIPLE_SHOOTING.replace(nodes=(2, 10, 120), backends=("sqp", "ipopt")),
                HERMITE_SIMPSON.replace(nodes=(2, 10, 300), backends=("ipopt", "sqp")),
@@ -31,6 +32,7 @@ class Hovercraft(Mission):
     presets = problem.PRESETS
     equations = problem.EQUATIONS
     tolerances = problem.TOLERANCES
+    labels = problem.LABELS
     consistency = problem.CONSISTENCY
     cost_label = "final time"
     cost_unit = "s"

@@ -8,10 +8,12 @@ from functools import cache
 import casadi as ca
 import numpy as np
 
+from ...handles import Handle
 from ...mission import Infeasible
 from ...ocp import OCP, Bounds, Guess
 from ...optimality import PMP_TRAJECTORY
 from ...problem import Consistency, Param, Preset, Published
+from ...solution import Label
 from .model import STATE_UNITS, STATES, T_LB, T_UB, X_LB, X_UB, rhs_angle, rhs_vector
 
 DEG = np.pi / 180
@@ -48,6 +50,12 @@ PARAMS = (
                "(∂v̇x/∂α = -A/m sin α = 0), so by default a cold start first solves the "
                "thrust-vector form (|u| ≤ 1, exact for minimum time) and then polishes α "
                "(LGL keeps the thrust vector)."),
+)
+
+# Dragged in the 3D view (ground plane, metres): the start and the target.
+HANDLES = (
+    Handle("start", "start", ("x0", "y0", 0.0)),
+    Handle("target", "target", ("xf", "yf", 0.0)),
 )
 
 _EXAMPLE_1 = "paper 004, example 1"
@@ -129,12 +137,30 @@ def parameter_vector(values: dict[str, float]) -> np.ndarray:
 
 
 def precheck(p: np.ndarray) -> None:
-    """A velocity change that full thrust cannot make within T ≤ 15 s is refused."""
+    """Refuse a request that violates a necessary condition of the bounds, naming it.
+
+    Both control forms accelerate by at most A/m (|u| <= 1), so |Δv| <= A/m T <= A/m T_max.
+    And vx >= 0 (the state bound) keeps x from decreasing: with d(vx²)/dt = 2 vx ax and
+    |ax| <= A/m, |vxf² - vx0²| <= 2 A/m (xf - x0), so the speed change along x needs at least
+    |vxf² - vx0²| / (2 A/m) of forward travel."""
+    a = float(p[P_A])
     dv = float(np.linalg.norm(p[P_XF][2:] - p[P_X0][2:]))
-    if dv / p[P_A] > T_UB:
+    if dv / a > T_UB:
         raise Infeasible(
-            f"the velocity change of {dv:.3g} m/s needs at least {dv / p[P_A]:.3g} s of "
-            f"thrust at A/m = {p[P_A]:g} m/s², beyond the paper's bound T ≤ {T_UB:g} s"
+            f"the velocity change of {dv:.3g} m/s needs at least {dv / a:.3g} s of "
+            f"thrust at A/m = {a:g} m/s², beyond the paper's bound T ≤ {T_UB:g} s"
+        )
+    (x0, vx0), (xf, vxf) = p[P_X0][::2], p[P_XF][::2]
+    room = float(xf - x0)
+    if room < 0:
+        raise Infeasible(f"vx ≥ {X_LB[2]:g} m/s (the state bound) keeps x from decreasing, "
+                         f"but the final x = {xf:g} m lies behind the initial x = {x0:g} m")
+    need = abs(float(vxf) ** 2 - float(vx0) ** 2) / (2 * a)
+    if need > room:
+        raise Infeasible(
+            f"changing vx from {vx0:g} to {vxf:g} m/s at A/m = {a:g} m/s² needs at least "
+            f"{need:.3g} m of travel in x (vx ≥ {X_LB[2]:g} m/s: x cannot go back), but only "
+            f"{room:.3g} m remain between x0 = {x0:g} m and xf = {xf:g} m"
         )
 
 
@@ -189,3 +215,13 @@ def end_miss(p: np.ndarray, x_final: np.ndarray) -> dict[str, float]:
         "position_miss_m": float(np.hypot(miss[0], miss[1])),
         "velocity_miss_m_s": float(np.hypot(miss[2], miss[3])),
     }
+
+
+# Screen names of the states, controls and re-propagation check entries (keys of
+# `Solution.check`), with the SI unit of each value.
+LABELS = {
+    "alpha": Label("thrust angle", "rad"),
+    "throttle": Label("throttle"),
+    "position_miss_m": Label("final position miss", "m"),
+    "velocity_miss_m_s": Label("final velocity miss", "m/s"),
+}

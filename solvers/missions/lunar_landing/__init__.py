@@ -25,12 +25,14 @@ class LunarLanding(Mission):
     summary = "Minimum-fuel powered descent from a 100 × 15 km orbit to a soft touchdown."
     source = problem.PAPER
     params = problem.PARAMS
+    handles = problem.HANDLES
     methods = (PAPER_METHOD, HERMITE_SIMPSON.replace(nodes=(5, 30, 200)),
                MULTIPLE_SHOOTING.replace(nodes=(5, 30, 200)))
     published = problem.PUBLISHED
     presets = problem.PRESETS
     equations = problem.EQUATIONS
     tolerances = problem.TOLERANCES
+    labels = problem.LABELS
     consistency = problem.CONSISTENCY
     cost_label = "fuel"
     cost_unit = "kg"

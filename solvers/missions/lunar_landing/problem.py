@@ -8,9 +8,11 @@ from functools import cache
 import casadi as ca
 import numpy as np
 
+from ...handles import Axis, Handle
 from ...mission import Infeasible
 from ...ocp import OCP, Bounds, Guess
 from ...problem import Consistency, Param, Preset, Published
+from ...solution import Label
 from .model import MU_MOON, R_MOON, STATE_UNITS, STATES, descent_rhs, perilune_rate
 
 DEG = np.pi / 180
@@ -18,6 +20,9 @@ PAPER = "Zhao & Gu 2008, Science & Technology Review 26(20) (paper 002)"
 # Parameter vector of the OCP: initial radius, initial angular rate, initial mass, thrust,
 # exhaust speed.
 P_R0, P_W0, P_M0, P_F, P_C = range(5)
+# The OCP's state bounds that `precheck` derives its necessary conditions from: altitude
+# (m), range angle θ (rad) and mass (kg).
+ALTITUDE_MAX, THETA_MAX, M_MIN = 300e3, 3.0, 1.0
 
 PARAMS = (
     Param("altitude0", "initial altitude (perilune)", "m", 15e3, 1e3, 100e3, 500,
@@ -38,6 +43,12 @@ PARAMS = (
           help="Constant braking thrust (the paper's constant-thrust assumption)."),
     Param("exhaust_speed", "exhaust speed Isp·g0", "m/s", 2940.0, 500.0, 5000.0, 10.0,
           group="Vehicle", help="Isp = 300 s with g0 = 9.8 m/s² gives the paper's 2940 m/s."),
+)
+
+# Dragged in the 3D view: the ignition point moves along the local vertical (the display
+# frame is Moon-centred, ignition on +x at R_MOON + altitude).
+HANDLES = (
+    Handle("ignition", "ignition altitude", (Axis("altitude0", offset=R_MOON), 0.0, 0.0)),
 )
 
 _TABLE_1 = "paper 002, table 1 (multiplier method)"
@@ -105,21 +116,41 @@ def time_guess(p: np.ndarray) -> float:
 
 
 def precheck(p: np.ndarray) -> None:
-    """Requests that cannot land at all get a clear reason before any solve."""
-    accel = p[P_F] / p[P_M0]
-    gravity = MU_MOON / p[P_R0] ** 2
-    if accel <= gravity:
+    """Refuse a request that no trajectory within the OCP's bounds can land, naming the bound.
+
+    Two necessary conditions (the thrust F is always on and |F/m| is the only non-gravity
+    acceleration):
+    - fuel: gravity is conservative, so e = V²/2 - μ/r + μ/R (zero at rest on the surface,
+      >= V²/2 above it) obeys ė >= -(F/m)|V| >= -(F/m)√(2e); hence √(2e) falls by at most
+      ∫F/m dt = c ln(m0/m): landing needs c ln(m0/m_min) >= √(2 e0);
+    - thrust: the angular momentum h = r²ω obeys |ḣ| = r (F/m)|cos ψ| <= r_max F/m, and while
+      h > 0 the range angle grows at θ̇ = h/r² >= h/r_max². Until h can first reach zero
+      (the mass m* with r_max c ln(m0/m*) = h0) θ grows by at least
+      (h0 t* - r_max c (m0 - m* - m* ln(m0/m*)) / ṁ) / r_max², which must stay below θ_max.
+    """
+    r0, w0, m0, thrust, c = (float(v) for v in p[:5])
+    v0 = r0 * w0
+    dv_energy = float(np.sqrt(v0 ** 2 + 2 * MU_MOON * (1 / R_MOON - 1 / r0)))
+    dv_budget = c * np.log(m0 / M_MIN)
+    if dv_energy > dv_budget:
         raise Infeasible(
-            f"thrust-to-weight below 1: F/m0 = {accel:.3f} m/s² does not exceed lunar gravity "
-            f"{gravity:.3f} m/s² at ignition, so the lander cannot stop its descent: raise the "
-            "thrust or lower the initial mass"
-        )
-    burn_limit = p[P_M0] * p[P_C] / p[P_F]
-    if time_guess(p) > 0.98 * burn_limit:
+            f"the propellant cannot stop the lander: shedding the orbital energy needs at "
+            f"least Δv = {dv_energy:.4g} m/s, but burning down to the mass bound m ≥ "
+            f"{M_MIN:g} kg gives only c ln(m0/{M_MIN:g} kg) = {dv_budget:.4g} m/s: raise the "
+            "exhaust speed or lower the orbital rate")
+    r_max = R_MOON + ALTITUDE_MAX
+    h0 = r0 ** 2 * w0
+    m_star = m0 * np.exp(-h0 / (r_max * c))
+    rate = thrust / c  # kg/s
+    t_star = (m0 - m_star) / rate
+    theta = (h0 * t_star - r_max * c * (m0 - m_star - m_star * np.log(m0 / m_star)) / rate) \
+        / r_max ** 2
+    if theta > THETA_MAX:
         raise Infeasible(
-            "the propellant cannot cancel the orbital speed: the rocket equation needs more "
-            "than the whole initial mass (raise the exhaust speed or lower the orbital rate)"
-        )
+            f"the thrust is too weak: at F = {thrust:g} N (F/m0 = {thrust / m0:.3g} m/s²) "
+            f"braking the orbital motion takes at least {theta:.3g} rad of range angle, "
+            f"beyond the bound θ ≤ {THETA_MAX:g} rad (with r ≤ R + {ALTITUDE_MAX / 1e3:g} km): "
+            "raise the thrust or lower the initial mass")
 
 
 @cache
@@ -128,8 +159,8 @@ def ocp() -> OCP:
 
     def bounds(p):
         return Bounds(
-            x_lb=np.array([R_MOON, -2e3, -1.0, -0.01, 1.0]),
-            x_ub=np.array([R_MOON + 300e3, 2e3, 3.0, 0.01, p[P_M0]]),
+            x_lb=np.array([R_MOON, -2e3, -1.0, -0.01, M_MIN]),
+            x_ub=np.array([R_MOON + ALTITUDE_MAX, 2e3, THETA_MAX, 0.01, p[P_M0]]),
             u_lb=np.array([-np.pi / 2]),
             u_ub=np.array([np.pi / 2]),
             T_lb=1.0,
@@ -175,3 +206,19 @@ def touchdown_miss(x_final: np.ndarray) -> dict[str, float]:
         "horizontal_speed_m_s": float(r * w),
         "speed_m_s": float(np.hypot(v, r * w)),
     }
+
+
+# Screen names of the states, controls and re-propagation check entries (keys of
+# `Solution.check`), with the SI unit of each value.
+LABELS = {
+    "r": Label("radius from the Moon's centre", "m"),
+    "v": Label("radial speed", "m/s"),
+    "theta": Label("downrange angle", "rad"),
+    "omega": Label("angular rate", "rad/s"),
+    "m": Label("mass", "kg"),
+    "psi": Label("thrust angle above the horizontal", "rad"),
+    "altitude_m": Label("touchdown altitude miss", "m"),
+    "radial_speed_m_s": Label("touchdown radial speed miss", "m/s"),
+    "horizontal_speed_m_s": Label("touchdown horizontal speed miss", "m/s"),
+    "speed_m_s": Label("touchdown speed miss", "m/s"),
+}

@@ -1,0 +1,200 @@
+"""Handles and shapes dragged in the 3D view: each mission's `Handle`s (a start, a target)
+and `Sphere`s (a keep-out zone) drawn as viser transform controls bound to parameters.
+
+A drag event sets the bound values the way a slider does (clamped at the range's end, the
+label saying so, never an exception) and asks the session for a solve: its newest request
+wins, so intermediate optima show while the hand moves. The sliders and boxes follow every
+submitted value (`on_submit`), the link follows through the view. Where a handle sits comes
+from the parameters and the view options (magnification), so it stays where the hand left it
+when the answer there is infeasible (the view keeps the last optimum dimmed and names the
+bound). Sizes follow the drawn path's extent.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import viser
+
+from solvers import palette
+from solvers.handles import Handle, Sphere, values_at
+from solvers.presentation import Presentation
+from solvers.problem import Param
+
+from .geometry import Geometry
+from .panels.setup import Controls
+from .panels.value_input import display_unit, to_display
+from .requests import Request
+from .session import Session
+
+GIZMO_FRACTION = 0.12  # gizmo arm length as a fraction of the path's extent
+# s after a hand's last drag event that the gizmo counts as let go even without an "end"
+# (a page may miss the release): then the values place it again.
+DRAG_IDLE = 1.0
+Report = Callable[[str, str], None]
+
+
+@dataclass
+class _Drawn:
+    """One handle on screen: its record, gizmo, label and (for a shape) its mesh."""
+
+    handle: Handle
+    gizmo: viser.TransformControlsHandle
+    label: viser.LabelHandle
+    shape: Sphere | None = None
+    mesh: Any = None
+    held: tuple[str, ...] = ()
+    in_hand: bool = False
+    last_event: float = 0.0
+
+    @property
+    def dragging(self) -> bool:
+        """In a hand: grabbed, not released, and moved within `DRAG_IDLE`."""
+        return self.in_hand and time.monotonic() - self.last_event < DRAG_IDLE
+
+
+def describe(handle: Handle, values: Mapping[str, float], params: Mapping[str, Param],
+             held: tuple[str, ...] = ()) -> str:
+    """The label beside a handle: its bound values in display units; a value held at the
+    end of its range says so."""
+    parts = []
+    for key in handle.params:
+        p = params[key]
+        unit = display_unit(p)
+        text = f"{p.label} {to_display(p, values[key]):.4g}{' ' + unit if unit else ''}"
+        parts.append(f"{text} (end of range)" if key in held else text)
+    return f"{handle.label}: " + ", ".join(parts)
+
+
+class Handles:
+    """The draggable handles and shapes of one view's mission (a `SessionListener`); the
+    view calls `place` after every drawing."""
+
+    def __init__(self, scene: viser.SceneApi, session: Session, controls: Controls,
+                 report: Report, root: str = "") -> None:
+        self.scene, self.session, self.controls = scene, session, controls
+        self.report, self.root = report, root
+        self.moves = 0  # drag events that set values (tests and benchmarks count them)
+        self._drawn: dict[str, _Drawn] = {}
+        self._scale = 1.0  # scene units per display metre (the presentation's display_scale)
+        self._size = 1.0
+        self._mission = ""
+        self._lock = threading.RLock()
+        session.listeners.append(self)
+
+    @property
+    def drawn(self) -> dict[str, _Drawn]:
+        return self._drawn
+
+    def _params(self) -> dict[str, Param]:
+        return {p.key: p for p in self.session.mission.all_params(self.session.method)}
+
+    # ---- what the view tells -------------------------------------------------------------
+    def place(self, pres: Presentation, geometry: Geometry) -> None:
+        """Show the mission's handles and shapes for these view options, sized by the path
+        (after every drawing: a view change moves them)."""
+        mission = self.session.mission
+        with self._lock:
+            if mission.key != self._mission:
+                self.clear()
+                self._mission = mission.key
+            self._scale = pres.display_scale
+            self._size = GIZMO_FRACTION * geometry.extent
+            view = self.session.view
+            items = [(h, None) for h in mission.handles]
+            items += [(s.handle, s) for s in mission.shapes]
+            for handle, shape in items:
+                drawn = self._drawn.get(handle.key)
+                if drawn is None:
+                    drawn = self._drawn[handle.key] = self._add(handle, shape)
+                drawn.gizmo.visible = handle.shown_in(view)
+                if drawn.gizmo.scale != self._size:
+                    drawn.gizmo.scale = self._size
+            self._sync(self.session.values)
+
+    def clear(self) -> None:
+        """Remove every handle (another mission)."""
+        with self._lock:
+            for drawn in self._drawn.values():
+                drawn.gizmo.remove()  # takes its label and mesh with it
+            self._drawn.clear()
+            self._mission = ""
+
+    # ---- SessionListener -----------------------------------------------------------------
+    def on_config(self, session: Session) -> None:
+        if session.mission.key != self._mission:
+            self.clear()
+
+    def on_submit(self, request: Request) -> None:
+        """New values went to the solver: sliders, boxes and handles follow them."""
+        for key, field in list(self.controls.fields.items()):
+            value = request.values.get(key)
+            if value is not None and field.value != value:
+                field.show(value)
+        with self._lock:
+            self._sync(request.values)
+
+    # ---- drawing -------------------------------------------------------------------------
+    def _add(self, handle: Handle, shape: Sphere | None) -> _Drawn:
+        name = f"{self.root}/handles/{handle.key}"
+        gizmo = self.scene.add_transform_controls(
+            name, scale=self._size, active_axes=handle.active_axes, disable_rotations=True,
+            depth_test=False, line_width=3.0)
+        # Below and left of the point: the gizmo's arrows point up and right, free to grab.
+        label = self.scene.add_label(f"{name}/label", handle.label, font_screen_scale=0.8,
+                                     anchor="top-right")
+        drawn = _Drawn(handle, gizmo, label, shape)
+        if shape is not None:
+            drawn.mesh = self.scene.add_icosphere(
+                f"{name}/shape", 1.0, palette.BOUND, subdivisions=3, opacity=0.35,
+                cast_shadow=False, receive_shadow=False)
+        gizmo.on_update(lambda event: self._dragged(drawn, event.phase))
+        return drawn
+
+    def _sync(self, values: Mapping[str, float]) -> None:
+        """Put every handle not in a hand where `values` place it, labels and shapes too."""
+        view, params = self.session.view, self._params()
+        for drawn in self._drawn.values():
+            h = drawn.handle
+            if any(k not in values for k in h.params):
+                continue
+            if not drawn.dragging:
+                drawn.gizmo.position = tuple(self._scale * np.array(h.where(values, view)))
+            drawn.label.text = describe(h, values, params, drawn.held)
+            if drawn.shape is not None:
+                drawn.mesh.radius = self._scale * drawn.shape.size(values, view)
+
+    # ---- dragging ------------------------------------------------------------------------
+    def drag(self, key: str, position: tuple[float, float, float], phase: str = "update") -> None:
+        """Move handle `key` to `position` (scene units) as a hand does (tests, benchmarks)."""
+        drawn = self._drawn[key]
+        drawn.gizmo.position = position
+        self._dragged(drawn, phase)
+
+    def _dragged(self, drawn: _Drawn, phase: str) -> None:
+        """A drag event (threadpool: events may arrive out of order, so each reads the
+        gizmo's latest pose): set the bound values, clamped, and solve."""
+        with self._lock:
+            drawn.in_hand, drawn.last_event = phase != "end", time.monotonic()
+            position = np.array(drawn.gizmo.position, float) / self._scale
+            moved = values_at(drawn.handle, position, tuple(self._params().values()),
+                              self.session.view)
+            drawn.held = moved.held
+            self.moves += 1
+        try:
+            self.session.set_values(moved.values)
+        except KeyError as exc:  # a drag racing a mission change: nothing to set
+            self.report("handle", str(exc))
+            return
+        with self._lock:
+            self._sync(self.session.values)
+        if phase == "end" and moved.held:
+            params = self._params()
+            ends = "; ".join(f"{params[k].label} {params[k].describe_range()}"
+                             for k in moved.held)
+            self.report(drawn.handle.label, f"held at the end of the range: {ends}")

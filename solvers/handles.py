@@ -1,0 +1,167 @@
+"""Things a person drags in the 3D view, bound to parameters: `Handle` (a point: a start, a
+target) and `Sphere` (a keep-out zone whose centre and radius are parameters).
+
+A coordinate of the display frame is either fixed (a number, metres) or an `Axis`: an
+affine function of one parameter, display metres = offset + scale × value (× a view option,
+e.g. an altitude exaggeration). Dragging moves only the bound axes (the others are locked)
+and the inverse of that function gives the new values, clamped to the parameters' ranges.
+Everything here is SI and pure numerics: the explorer draws and drags
+(`explorer/handles.py`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+
+from .problem import Param
+
+
+@dataclass(frozen=True)
+class Axis:
+    """One display coordinate bound to parameter `param`: offset + scale × value, the scale
+    multiplied by the view option `view` when given (metres of the display frame)."""
+
+    param: str
+    scale: float = 1.0
+    offset: float = 0.0
+    view: str | None = None
+
+    def __post_init__(self) -> None:
+        if self.scale == 0:
+            raise ValueError(f"Axis {self.param}: scale must not be zero")
+
+    def factor(self, view: Mapping[str, float]) -> float:
+        """Display metres per SI unit of the parameter in these view options."""
+        return self.scale * (float(view[self.view]) if self.view is not None else 1.0)
+
+    def where(self, values: Mapping[str, float], view: Mapping[str, float]) -> float:
+        return self.offset + self.factor(view) * float(values[self.param])
+
+    def value_at(self, coordinate: float, view: Mapping[str, float]) -> float:
+        """The parameter value that puts this coordinate at `coordinate` (unclamped)."""
+        return (coordinate - self.offset) / self.factor(view)
+
+
+Coordinate = float | str | Axis  # a str is Axis(str): the parameter's value in metres
+
+
+def as_axis(c: Coordinate) -> Axis | None:
+    """The `Axis` of a coordinate (None: a fixed number)."""
+    if isinstance(c, Axis):
+        return c
+    return Axis(c) if isinstance(c, str) else None
+
+
+def _where(c: Coordinate, values: Mapping[str, float], view: Mapping[str, float]) -> float:
+    axis = as_axis(c)
+    return float(c) if axis is None else axis.where(values, view)  # type: ignore[arg-type]
+
+
+@dataclass(frozen=True)
+class Handle:
+    """A draggable point of the display frame, e.g. the chaser's start (x0, y0, z0).
+
+    `position` gives the three display coordinates (numbers are locked, `Axis`/str ones
+    drag); `views` restricts the handle to view options where that mapping holds (e.g. the
+    target frame, not the magnified inertial view): a view option key → the value it needs.
+    """
+
+    key: str
+    label: str
+    position: tuple[Coordinate, Coordinate, Coordinate]
+    views: Mapping[str, float] = field(default_factory=dict)
+
+    @property
+    def axes(self) -> tuple[Axis | None, Axis | None, Axis | None]:
+        a, b, c = (as_axis(x) for x in self.position)
+        return a, b, c
+
+    @property
+    def active_axes(self) -> tuple[bool, bool, bool]:
+        """Which display axes drag (the gizmo's arrows and planes)."""
+        a, b, c = (axis is not None for axis in self.axes)
+        return a, b, c
+
+    @property
+    def params(self) -> tuple[str, ...]:
+        return tuple(axis.param for axis in self.axes if axis is not None)
+
+    def shown_in(self, view: Mapping[str, float]) -> bool:
+        return all(view.get(k) == v for k, v in self.views.items())
+
+    def where(self, values: Mapping[str, float], view: Mapping[str, float]) -> tuple[float, ...]:
+        """Display-frame position (metres) for these values and view options."""
+        return tuple(_where(c, values, view) for c in self.position)
+
+
+@dataclass(frozen=True)
+class Sphere:
+    """A sphere drawn in the display frame (a keep-out zone): centre coordinates and radius
+    are numbers or parameters (metres); a centre bound to parameters drags like a handle."""
+
+    key: str
+    label: str
+    center: tuple[Coordinate, Coordinate, Coordinate]
+    radius: Coordinate
+    views: Mapping[str, float] = field(default_factory=dict)
+
+    @property
+    def handle(self) -> Handle:
+        """The centre as a handle (what drags the sphere)."""
+        return Handle(self.key, self.label, self.center, self.views)
+
+    def size(self, values: Mapping[str, float], view: Mapping[str, float]) -> float:
+        return _where(self.radius, values, view)
+
+
+@dataclass(frozen=True)
+class Moved:
+    """What a drag to a position asks for: the new values (SI, within the ranges) and the
+    parameters held at an end of their range (the hint to show)."""
+
+    values: dict[str, float]
+    held: tuple[str, ...] = ()
+
+
+def values_at(handle: Handle, position: Sequence[float], params: Sequence[Param],
+              view: Mapping[str, float]) -> Moved:
+    """The parameter values that put `handle` at display `position` (metres): each bound
+    axis inverted, clamped to its parameter's [min, max] (as a slider stops at its ends),
+    whole numbers rounded. Locked axes are ignored."""
+    by_key = {p.key: p for p in params}
+    values: dict[str, float] = {}
+    held: list[str] = []
+    for axis, coordinate in zip(handle.axes, position, strict=True):
+        if axis is None:
+            continue
+        p = by_key[axis.param]
+        raw = axis.value_at(float(coordinate), view)
+        value = min(max(raw, p.min), p.max)
+        if p.integer:
+            value = float(round(value))
+        if value != raw and (value == p.min or value == p.max):
+            held.append(p.key)
+        values[p.key] = value
+    return Moved(values, tuple(held))
+
+
+def check_bindings(handles: Sequence[Handle], params: Sequence[Param],
+                   view_params: Sequence[Param]) -> None:
+    """Raise `ValueError` naming a handle bound to an unknown parameter or view option, or
+    to a choice (a choice is no length)."""
+    by_key = {p.key: p for p in params}
+    views = {p.key for p in view_params}
+    for h in handles:
+        for axis in h.axes:
+            if axis is None:
+                continue
+            p = by_key.get(axis.param)
+            if p is None or p.is_choice:
+                raise ValueError(f"handle '{h.key}': '{axis.param}' is not a numeric "
+                                 f"parameter (known: {', '.join(sorted(by_key))})")
+            if axis.view is not None and axis.view not in views:
+                raise ValueError(f"handle '{h.key}': '{axis.view}' is not a view option")
+        for key in h.views:
+            if key not in views:
+                raise ValueError(f"handle '{h.key}': '{key}' is not a view option")

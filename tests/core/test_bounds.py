@@ -1,0 +1,202 @@
+"""Nothing runs unbounded and no bad option costs a user their work: the default time limit
+(`Mission.solve`, the CLI), a check bounded by what its solve left of the limit, and output
+paths and option values refused before any work starts (issue 16)."""
+
+from __future__ import annotations
+
+import inspect
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import solvers
+from solvers import __main__ as cli
+from solvers import sweep
+from solvers.mission import DEFAULT_TIME_LIMIT, Mission, SolveContext
+from solvers.missions.asteroid_rendezvous import launch_map
+from solvers.solution import Quantity, Solution
+from solvers.verify import CheckTimeLimit, integrate_piecewise, time_budget
+
+
+def _cli(argv: list[str]) -> int:
+    """Exit code of the CLI run in this process (a parser's exit is an exit code too)."""
+    try:
+        return cli.main(argv)
+    except SystemExit as exc:
+        return int(exc.code or 0)
+
+
+@pytest.fixture
+def no_work(monkeypatch):
+    """Any solve, sweep or launch map started fails the test: refusals come first."""
+    def started(*args, **kwargs):
+        raise AssertionError("work started before the bad option was refused")
+
+    monkeypatch.setattr(cli, "solve_isolated", started)
+    monkeypatch.setattr(sweep, "mission_grid", started)
+    monkeypatch.setattr(launch_map, "compute_launch_map", started)
+
+
+@pytest.mark.parametrize("argv, named", [
+    (["solve", "hovercraft", "--csv", "/tmp"], "--csv /tmp"),
+    (["solve", "hovercraft", "--csv", "/proc/version"], "--csv /proc/version"),
+    (["solve", "hovercraft", "--csv", ""], "--csv ''"),
+    (["solve", "hovercraft", "--csv", "/nonexistent/x.csv"], "--csv /nonexistent/x.csv"),
+    (["sweep", "hovercraft", "--grid", "accel=3,4", "--out", "/tmp"], "--out /tmp"),
+    (["sweep", "hovercraft", "--grid", "accel=3,4", "--workers", "0"], "--workers"),
+    (["sweep", "hovercraft", "--grid", "accel=3,4", "--workers", "-3"], "--workers"),
+    (["solve", "hovercraft", "--time-limit", "-5"], "--time-limit"),
+    (["launch-map", "--out", "/nonexistent/a/b"], "--out /nonexistent/a/b"),
+    (["launch-map", "--frobnicate", "--out", "/tmp"], "--frobnicate"),
+])
+def test_bad_output_paths_and_options_are_refused_in_one_line_before_any_work(
+        argv, named, no_work, capsys):
+    assert _cli(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and named in err and "Errno" not in err, err
+
+
+def test_launch_map_creates_no_missing_folders(tmp_path, no_work, capsys):
+    assert _cli(["launch-map", "--out", str(tmp_path / "a" / "b")]) == 2
+    assert not (tmp_path / "a").exists()
+
+
+def test_a_refused_output_file_is_not_left_behind(tmp_path, no_work):
+    """The writability probe of a new file removes it again (here the solve is refused)."""
+    target = tmp_path / "out.csv"
+    assert _cli(["solve", "hovercraft", "--csv", str(target), "--time-limit", "-1"]) == 2
+    assert not target.exists()
+    cli._writable(str(target), "--csv")
+    assert not target.exists()
+
+
+@pytest.mark.parametrize("given, expected", [([], DEFAULT_TIME_LIMIT), (["--time-limit", "7"], 7.0),
+                                             (["--time-limit", "0"], None)])
+def test_solve_and_sweep_carry_the_default_time_limit_and_0_means_none(
+        monkeypatch, given, expected):
+    seen: dict[str, object] = {}
+
+    def fake_solve(spec, files=()):
+        seen["solve"] = spec.time_limit
+        return solvers.get_mission("hovercraft").empty({}, solvers.get_mission(
+            "hovercraft").method(None), 10, "ipopt", "failed", "not solved")
+
+    def fake_grid(*args, **kwargs):
+        seen["sweep"] = kwargs["time_limit"]
+        return []
+
+    monkeypatch.setattr(cli, "solve_isolated", fake_solve)
+    monkeypatch.setattr(sweep, "mission_grid", fake_grid)
+    _cli(["solve", "hovercraft", *given])
+    _cli(["sweep", "hovercraft", "--grid", "accel=3,4", *given])
+    assert seen == {"solve": expected, "sweep": expected}
+    assert f"default {DEFAULT_TIME_LIMIT:g}" in cli.TIME_LIMIT_HELP
+
+
+def test_the_python_api_has_the_default_limit_and_0_means_none():
+    assert inspect.signature(Mission.solve).parameters["time_limit"].default == \
+        DEFAULT_TIME_LIMIT
+    # 0 is "no limit", not "stop at once" (it was a time-limit status at the first iteration).
+    assert solvers.get_mission("hovercraft").solve(time_limit=0, verify=False).ok
+
+
+def _endless_check() -> dict[str, float]:
+    """A check whose integration would take far longer than any budget: y' = -y for 1e12 s
+    with steps no larger than round-off allows (stiff, many steps), in small pieces."""
+    integrate_piecewise(lambda t, y: -1e6 * y, np.ones(1), np.linspace(0.0, 1e9, 10**6),
+                        1e-12, 1e-14)
+    return {"miss_m": 0.0}
+
+
+def test_a_deferred_check_gets_what_the_solve_left_of_the_limit_and_stops_there():
+    ctx = SolveContext(time_limit=0.5)
+    sol = Solution(mission="m", method="x", nodes=2, status="optimal", message="converged",
+                   cost=Quantity(1.0, "cost", ""), checker=_endless_check)
+    ctx.bound_check(sol)
+    time.sleep(0.2)  # a deferred check runs later: it still gets the 0.3 s left, no more
+    started = time.monotonic()
+    sol.run_check()
+    assert time.monotonic() - started < 0.3 + 0.5
+    assert sol.status == "inaccurate" and "time limit" in sol.message
+
+
+def test_a_check_not_back_by_the_hard_deadline_is_given_up():
+    """The CLI's last line of defence: a check still owed at the time limit plus the grace
+    (e.g. stuck in a native call of the worker) is given up and the answer says so."""
+    from types import SimpleNamespace
+
+    from solvers.service import Job, SolveSpec
+
+    job = Job(SimpleNamespace(grace=0.1), 1, SolveSpec("m", time_limit=0.2), "", None)
+    job.started = time.monotonic()
+    job._finish(Solution(mission="m", method="x", nodes=2, status="optimal",
+                         message="converged", cost=Quantity(1.0, "cost", "")), checked=False)
+    sol = job.checked_result()
+    assert time.monotonic() - job.started < 0.3 + 0.5
+    assert sol.status == "inaccurate" and "did not finish within the time limit" in sol.message
+
+
+def test_a_budget_stops_an_integration():
+    started = time.monotonic()
+    with pytest.raises(CheckTimeLimit), time_budget(0.2):
+        _endless_check()
+    assert time.monotonic() - started < 0.2 + 0.5
+
+
+@pytest.fixture(scope="module")
+def reentry():
+    """A reentry answer (the paper's case, multiple shooting) whose check has not run."""
+    mission = solvers.get_mission("apollo-reentry")
+    sol = mission.solve(method="multiple-shooting", verify=False, time_limit=0)
+    assert sol.ok and sol.checker is not None
+    return mission, sol
+
+
+def test_the_reentry_reference_stops_at_its_budget(reentry):
+    """The maximum-principle reference (scipy root over solve_ivp) is bounded too."""
+    mission, sol = reentry
+    started = time.monotonic()
+    with time_budget(0.0), pytest.raises(CheckTimeLimit):
+        mission.indirect_reference(sol, mission.parameter_vector(sol.values))
+    assert time.monotonic() - started < 0.5
+
+
+def test_a_reference_cut_by_the_limit_leaves_the_miss_and_says_so(reentry, monkeypatch):
+    mission, sol = reentry
+
+    def out_of_time(*args):
+        raise CheckTimeLimit("the check stopped at the time limit")
+
+    monkeypatch.setattr(type(mission), "indirect_reference", out_of_time)
+    sol.run_check()
+    assert abs(sol.check["altitude_miss_m"]) < mission.tolerances["altitude_miss_m"]
+    assert "did not finish within the time limit" in sol.message
+
+
+def test_a_wandering_newton_iterate_of_the_reentry_reference_warns_nothing():
+    """The reference's Newton iterates can leave every extremal far behind (costates of
+    1e160 here): the segment's variational equations overflow, which is a failed segment,
+    not a numpy warning on stderr (issue 16)."""
+    from solvers.missions.apollo_reentry import model
+
+    y0 = np.array([0.36, -0.14, 4 / 209.0, 1e160, 1e160, 1e160])  # S&B units
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        _, _, ok = model._segment(y0, 230.0, 0.0, 0.1)
+    assert not ok
+
+
+def test_a_reentry_check_prints_no_overflow_warning(tmp_path):
+    """Issue 16: the Apollo checks printed numpy overflow warnings on stderr."""
+    import subprocess
+    import sys
+
+    res = subprocess.run([sys.executable, "-m", "solvers", "solve", "apollo-reentry",
+                          "--csv", str(Path(tmp_path) / "r.csv")],
+                         capture_output=True, text=True, timeout=300)
+    assert res.returncode == 0, res.stderr
+    assert "RuntimeWarning" not in res.stderr and "overflow" not in res.stderr
+    assert (tmp_path / "r.csv").read_text().count("\n") > 10  # written after the solve

@@ -1,0 +1,154 @@
+"""Necessary conditions named before solving (issue 16): a case just past a mission's bound is
+refused at once as `infeasible`, naming the bound with its numbers; a case just inside it is
+not refused. Each threshold is computed here from the physics (not copied from our output);
+the derivations are in each mission's `precheck`."""
+
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+import time
+
+import pytest
+from scipy.integrate import quad
+
+import solvers
+from solvers.mission import Infeasible
+from solvers.missions.apollo_reentry import model as apollo_model
+from solvers.missions.elliptic_transfer.problem import MIN_PERIGEE_ALTITUDE, R_EARTH
+from solvers.missions.hovercraft import problem as hover_problem
+from solvers.missions.lunar_landing import problem as lunar_problem
+from solvers.missions.lunar_landing.model import MU_MOON, R_MOON
+
+HOVER = solvers.get_mission("hovercraft")
+LUNAR = solvers.get_mission("lunar-landing")
+APOLLO = solvers.get_mission("apollo-reentry")
+ELLIPTIC = solvers.get_mission("elliptic-transfer")
+DEG = math.pi / 180
+
+
+def _refused(mission: solvers.Mission, values: dict[str, float], method: str | None = None
+             ) -> str | None:
+    """The precheck's message for `values` (validated as a solve would), None if accepted."""
+    vals, _, _ = mission.validate(values, method)
+    try:
+        mission.precheck(vals, mission.parameter_vector(vals))
+    except Infeasible as exc:
+        return str(exc)
+    return None
+
+
+# ---- hovercraft: vx >= 0, so braking along x needs (vx0² - vxf²) / (2 A/m) of room ----------
+@pytest.mark.parametrize("method", ["multiple-shooting", "hermite-simpson", "lgl"])
+def test_hovercraft_braking_distance_is_named_by_every_method(method):
+    """The issue's case: braking from 5 m/s at 3 m/s² needs 25/6 = 4.17 m; 3.5 m remain."""
+    start = time.perf_counter()
+    sol = HOVER.solve({"x0": 1.5}, method=method)
+    assert time.perf_counter() - start < 1.0
+    assert sol.status == "infeasible"
+    assert "4.17 m" in sol.message and "3.5 m" in sol.message and "vx ≥ 0" in sol.message
+
+
+def test_hovercraft_braking_distance_just_inside_and_past():
+    need = 5.0**2 / (2 * 3.0)  # m, from vx0 = 5 m/s to rest at A/m = 3 m/s²
+    past = {"x0": 5.0 - 0.98 * need}
+    inside = {"x0": 5.0 - 1.02 * need}
+    assert HOVER.solve(past, method="multiple-shooting").status == "infeasible"
+    hover_problem.precheck(hover_problem.parameter_vector(HOVER.validate(inside)[0]))
+    assert HOVER.solve(inside, method="multiple-shooting").converged  # 1 cm of margin
+    behind = HOVER.solve({"x0": 2.0, "xf": 1.0}, method="multiple-shooting")
+    assert behind.status == "infeasible" and "behind" in behind.message
+
+
+def test_cli_names_the_hovercraft_bound_promptly():
+    """Issue 16: this command printed nothing for 120 s; vx0 = 5 m/s at 3.3 m/s² needs
+    25/6.6 = 3.79 m."""
+    start = time.perf_counter()
+    out = subprocess.run([sys.executable, "-m", "solvers", "solve", "hovercraft", "--method",
+                          "multiple-shooting", "--nodes", "25", "--set", "x0=1.5", "--set",
+                          "accel=3.3"], capture_output=True, text=True, timeout=120)
+    assert time.perf_counter() - start < 60.0  # the interpreter's start-up, no solve
+    assert "infeasible" in out.stdout and "3.79 m" in out.stdout and "3.5 m" in out.stdout
+
+
+# ---- lunar landing: the energy to shed, and the range angle to brake in --------------------
+def _lunar_range_angle(values: dict[str, float]) -> float:
+    """The least range angle before the angular momentum h = r²ω can reach zero, integrated
+    numerically: θ̇ >= h/r_max², h(t) >= h0 - r_max c ln(m0/m(t)), m(t) = m0 - F t/c."""
+    r0 = R_MOON + values["altitude0"]
+    h0, c, m0, thrust = r0**2 * values["omega0"], values["exhaust_speed"], values["mass0"], \
+        values["thrust"]
+    r_max = R_MOON + lunar_problem.ALTITUDE_MAX
+    t_star = (m0 - m0 * math.exp(-h0 / (r_max * c))) * c / thrust
+
+    def h_low(t: float) -> float:
+        return h0 - r_max * c * math.log(m0 / (m0 - thrust * t / c))
+
+    return quad(h_low, 0.0, t_star)[0] / r_max**2
+
+
+def test_lunar_thrust_too_weak_for_the_range_angle_bound():
+    defaults = LUNAR.defaults("hermite-simpson")
+    # θ_min is proportional to 1/F: the thrust at which it equals θ_max = 3 rad.
+    f_crit = defaults["thrust"] * _lunar_range_angle(defaults) / lunar_problem.THETA_MAX
+    assert 50.0 < f_crit < 200.0
+    message = _refused(LUNAR, {"thrust": 0.98 * f_crit})
+    assert message is not None and "too weak" in message and "θ ≤ 3 rad" in message
+    assert _refused(LUNAR, {"thrust": 1.02 * f_crit}) is None
+    # F/m0 below lunar gravity is not a bound: the mass falls as the engine burns.
+    assert _refused(LUNAR, {"thrust": 900.0}) is None
+
+
+def test_lunar_propellant_that_cannot_shed_the_orbital_energy():
+    case = {"altitude0": 100e3, "omega0": 1.4e-3, "mass0": 50.0, "thrust": 2000.0}
+    r0 = R_MOON + case["altitude0"]
+    # √(2 e0): the speed that cancels the orbital speed and the height above the surface.
+    dv = math.sqrt((r0 * case["omega0"]) ** 2 + 2 * MU_MOON * (1 / R_MOON - 1 / r0))
+    c_crit = dv / math.log(case["mass0"] / lunar_problem.M_MIN)
+    sol = LUNAR.solve({**case, "exhaust_speed": 0.98 * c_crit}, method="hermite-simpson")
+    assert sol.status == "infeasible" and "propellant" in sol.message
+    assert f"{dv:.4g} m/s" in sol.message
+    assert _refused(LUNAR, {**case, "exhaust_speed": 1.02 * c_crit}) is None
+
+
+# ---- Apollo reentry: drag only dissipates; the climb and descent rates are bounded ---------
+def test_apollo_energy_cannot_rise():
+    v0, h0, hf = 8000.0, 4.0 * apollo_model.LENGTH_UNIT, 2.5 * apollo_model.LENGTH_UNIT
+    mu = apollo_model.G * apollo_model.LENGTH_UNIT * apollo_model.R_EARTH**2
+    re = apollo_model.R_EARTH
+    reachable = math.sqrt(v0**2 + 2 * mu * (1 / (re + hf) - 1 / (re + h0)))
+    base = {"v0": v0, "h0": h0, "hf": hf}
+    message = _refused(APOLLO, {**base, "vf": 1.001 * reachable})
+    assert message is not None and "drag only removes energy" in message
+    assert _refused(APOLLO, {**base, "vf": 0.999 * reachable}) is None
+
+
+def test_apollo_descent_within_the_flight_path_and_time_bounds():
+    values = APOLLO.defaults()
+    drop = values["h0"] - values["hf"]
+    base = {"gamma0": -1 * DEG, "gamma_min": -1 * DEG, "T_min": 50.0}
+    t_crit = drop / (values["v_max"] * math.sin(1 * DEG))
+    message = _refused(APOLLO, {**base, "T_max": 0.98 * t_crit})
+    assert message is not None and "cannot descend" in message and "gamma_min" in message
+    assert _refused(APOLLO, {**base, "T_max": 1.02 * t_crit}) is None
+    sol = APOLLO.solve({**base, "T_max": 0.98 * t_crit}, method="hermite-simpson")
+    assert sol.status == "infeasible"
+
+
+def test_apollo_climb_within_the_flight_path_bound():
+    base = {"h0": 60e3, "hf": 170e3, "gamma0": -1 * DEG, "gammaf": 0.0}
+    values = APOLLO.defaults()
+    g_crit = math.asin((170e3 - 60e3) / (values["T_max"] * values["v_max"]))
+    message = _refused(APOLLO, {**base, "gamma_max": 0.98 * g_crit})
+    assert message is not None and "cannot climb" in message
+    assert _refused(APOLLO, {**base, "gamma_max": 1.02 * g_crit}) is None
+
+
+# ---- elliptic transfer: the target's perigee above 100 km ----------------------------------
+def test_elliptic_perigee_just_inside_and_past():
+    e_crit = 1 - (R_EARTH + MIN_PERIGEE_ALTITUDE) / ELLIPTIC.defaults()["a"]
+    past = ELLIPTIC.solve({"e": 1.01 * e_crit})
+    assert past.status == "infeasible" and "perigee" in past.message
+    assert ELLIPTIC.solve({"e": 0.99 * e_crit}).converged
+

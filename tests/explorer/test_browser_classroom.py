@@ -1,0 +1,183 @@
+"""The presenter mode (issue 20) through Debian chromium: one teacher tab and three student
+tabs on a `--classroom` app. The teacher link drives (and its key leaves the address bar); the
+teacher moves a slider and every student shows the teacher's new optimum (the teacher's own
+solution: no solve of theirs); a student's move while following branches and never changes
+the teacher; rejoin and bring-everyone-back; a challenge with a student's verified optimum on
+the leaderboard; no student page and no room link carries the secret."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+import pytest
+from browser_support import BROWSER, HEIGHT, PATIENCE_MS, WIDTH, until
+
+pytestmark = BROWSER
+pytest.importorskip("playwright.sync_api", reason="Python Playwright is not installed")
+
+SECRET = "classroom-test-key-7Qx2"
+STUDENTS = 3
+THRUST = "thrust F [N]"
+
+
+@pytest.fixture(scope="module")
+def room() -> Iterator:
+    """A classroom app, its teacher tab and three student tabs (pages and views)."""
+    from explorer.app import ExplorerApp
+    from explorer.capture import CAPTURE_TIME_LIMIT, chromium, close_webgl_toast, free_port
+
+    app = ExplorerApp("127.0.0.1", free_port(), "lunar-landing", "hermite-simpson",
+                      classroom=True, teacher_secret=SECRET, time_limit=CAPTURE_TIME_LIMIT)
+    try:
+        with chromium(WIDTH, HEIGHT) as context:
+            teacher = _open(app, context, app.teacher_url)
+            until(lambda: app.room.teacher is not None, "the teacher link to drive the room")
+            students = [_open(app, context, f"{app.url}/") for _ in range(STUDENTS)]
+            for page, _ in [teacher, *students]:
+                close_webgl_toast(page, timeout=3.0)
+            yield app, teacher, students
+    finally:
+        app.stop()
+
+
+def _open(app, context, url: str):
+    page = context.new_page()
+    with app._lock:
+        before = set(app.views)
+    page.goto(url)
+    new = until(lambda: set(app.views) - before, "the tab to connect")
+    with app._lock:
+        view = app.views[min(new)]
+    until(lambda: view.drawn, "the tab's first picture")
+    return page, view
+
+
+def _slider_key(page, label: str, key: str, times: int = 1) -> None:
+    slider_id = page.locator("label", has_text=label).first.get_attribute("for")
+    page.locator(f'[id="{slider_id}"]').get_by_role("slider").focus()
+    for _ in range(times):
+        page.keyboard.press(key)
+
+
+def _labelled(page, label: str):
+    """The input in the row of the viser label that reads exactly `label`."""
+    handle = page.evaluate_handle(
+        """(text) => {
+          const label = [...document.querySelectorAll('label')].find(
+              (l) => l.textContent.trim() === text && l.offsetParent !== null);
+          let row = label, input = null;
+          for (let i = 0; i < 5 && row && !input; i++) {
+            row = row.parentElement;
+            input = row && row.querySelector('input');
+          }
+          return input;
+        }""", label)
+    element = handle.as_element()
+    assert element is not None, f"no input labelled {label!r}"
+    return element
+
+
+def _shows_teachers(view, teacher) -> bool:
+    return view.session.latest is teacher.session.latest and view.presentation is not None \
+        and view._shown[0] is teacher.session.latest
+
+
+def test_the_secret_stays_with_the_teacher(room):
+    app, (tpage, tview), students = room
+    assert app.room.teacher.id == tview.member_id
+    until(lambda: SECRET not in tpage.url, "the key to leave the teacher's address bar")
+    tpage.get_by_text(f"Students open {app.url}/").first.wait_for(timeout=PATIENCE_MS)
+    assert SECRET not in tpage.content()  # the room link shown is the students' one
+    tpage.get_by_role("button", name="bring everyone back").wait_for(timeout=PATIENCE_MS)
+    for page, view in students:
+        assert SECRET not in page.content() and SECRET not in page.url
+        assert app.room.members[view.member_id].state == "following"
+        assert page.get_by_role("button", name="bring everyone back").count() == 0
+
+
+def test_the_teacher_moves_and_every_student_shows_the_new_optimum(room):
+    from explorer.panels.status import fmt
+
+    app, (tpage, tview), students = room
+    before = tview.session.latest
+    _slider_key(tpage, THRUST, "ArrowRight", times=3)
+    until(lambda: tview.session.wait_idle(120) and tview.session.latest is not before
+          and tview.session.latest.ok, "the teacher's new optimum")
+    sol = tview.session.latest
+    assert sol.values["thrust"] > before.values["thrust"]
+    for page, view in students:
+        until(lambda v=view: _shows_teachers(v, tview), "a student drawing the teacher's optimum")
+        assert view.session.values["thrust"] == sol.values["thrust"]
+        page.get_by_text(fmt(sol.cost.value, sol.cost.unit)).first.wait_for(
+            timeout=PATIENCE_MS)
+
+
+def test_a_students_move_branches_and_never_changes_the_teacher(room):
+    app, (tpage, tview), students = room
+    page, view = students[0]
+    teacher_thrust = tview.session.values["thrust"]
+    _slider_key(page, THRUST, "Home")  # 10 N: too weak to land
+    until(lambda: not view.session.following, "the student's move to branch")
+    until(lambda: view.session.wait_idle(120) and view.session.latest is not None
+          and view.session.latest.values["thrust"] == 10.0, "the student's own answer")
+    assert tview.session.values["thrust"] == teacher_thrust
+    assert students[1][1].session.values["thrust"] == teacher_thrust
+    page.get_by_text("Exploring on your own").first.wait_for(timeout=PATIENCE_MS)
+
+    page.get_by_role("button", name="follow the teacher again").click()
+    until(lambda: view.session.following and _shows_teachers(view, tview), "the rejoin")
+
+    for p, v in students[:2]:
+        p.get_by_role("button", name="explore on my own").click()
+        until(lambda v=v: not v.session.following, "explore on my own")
+    tpage.get_by_role("button", name="bring everyone back").click()
+    for _, v in students:
+        until(lambda v=v: v.session.following and _shows_teachers(v, tview),
+              "bring everyone back")
+
+
+def test_a_challenge_ranks_a_students_verified_optimum(room):
+    from explorer.panels.status import fmt
+
+    app, (tpage, tview), students = room
+    tpage.get_by_text("Challenge", exact=True).first.click()
+    tpage.get_by_role("button", name="start challenge").wait_for(timeout=PATIENCE_MS)
+    _labelled(tpage, "goal").fill("least fuel with the thrust frozen")
+    box = _labelled(tpage, "thrust F")  # the freeze checkbox (the plot panel may float
+    box.focus()  # over it: the keyboard ticks it, as a person tabbing through would)
+    tpage.keyboard.press("Space")
+    until(lambda: box.is_checked(), "the freeze box ticked")
+    tpage.get_by_role("button", name="start challenge").click()
+    challenge = until(lambda: app.room.challenge, "the challenge to start")
+    assert set(challenge.frozen) == {"thrust"}
+    page, view = students[1]
+    until(lambda: not view.session.following, "the students to explore")
+    _labelled(page, "your name").fill("Ada")
+    until(lambda: app.room.members[view.member_id].name == "Ada", "the name")
+    _slider_key(page, "initial mass [kg]", "ArrowLeft", times=2)
+    until(lambda: app.room.board.ranking(), "a verified optimum on the leaderboard")
+    entry = app.room.board.ranking()[0]
+    assert entry.name == "Ada" and entry.solution.status == "optimal"
+    assert entry.solution.values["thrust"] == challenge.frozen["thrust"]
+    shown = fmt(entry.cost, entry.solution.cost.unit)
+    tpage.locator("td", has_text="Ada").first.wait_for(timeout=PATIENCE_MS)
+    tpage.locator("td", has_text=shown).first.wait_for(timeout=PATIENCE_MS)
+    _slider_key(page, THRUST, "End")  # frozen: refused, the value stays
+    page.get_by_text("the challenge freezes this").first.wait_for(timeout=PATIENCE_MS)
+    assert view.session.values["thrust"] == challenge.frozen["thrust"]
+    tpage.get_by_role("button", name="end challenge").click()
+    until(lambda: app.room.challenge is None, "the challenge to end")
+
+
+def test_a_student_who_leaves_is_dropped_and_the_teachers_tab_can_close(room):
+    app, (tpage, tview), students = room
+    page, view = students[2]
+    page.close()
+    until(lambda: view.member_id not in app.room.members, "the student to be dropped")
+    case = app.room.case
+    tpage.close()
+    until(lambda: app.room.teacher is None, "the teacher's tab to leave")
+    assert app.room.case.values == case.values  # the students keep the last case
+    _, again = _open(app, students[0][0].context, app.teacher_url)
+    until(lambda: app.room.teacher is not None and app.room.teacher.id == again.member_id,
+          "the teacher link to open the room again")

@@ -1,0 +1,119 @@
+"""Dragging a handle in the 3D view with the mouse (issue 19), through Debian chromium: the
+mouse grabs the gizmo's arrow where the camera projects it on the canvas, moves and lets go;
+the bound parameter, its slider and the link follow, and a new optimum is drawn. The cart's
+check is analytic: T* = 2 sqrt(d / a) (Kirk 1970, ex. 5.3-1)."""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+import pytest
+from browser_support import BROWSER, PATIENCE, until
+
+from solvers import get_mission
+
+pytestmark = BROWSER
+pytest.importorskip("playwright.sync_api", reason="Python Playwright is not installed")
+
+ARM = 0.6  # where along a gizmo arrow (fraction of its length) the mouse grabs it
+STEPS = 12  # mouse moves of one gesture
+STILL = 1.5  # s without camera motion before the camera is read
+
+
+def _client(view):
+    clients = list(view.cameras.clients.values())
+    assert len(clients) == 1
+    return clients[0]
+
+
+def _settled_camera(view) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """(position, look_at, up, vertical fov) of the tab's camera once it has stopped moving
+    for `STILL` s (the framing of a new solution is animated)."""
+    camera = _client(view).camera
+
+    def pose() -> tuple:
+        return (tuple(np.round(camera.position, 9)), tuple(np.round(camera.look_at, 9)),
+                tuple(camera.up_direction), float(camera.fov))
+
+    last, since = pose(), time.monotonic()
+    deadline = since + PATIENCE
+    while time.monotonic() - since < STILL:
+        assert time.monotonic() < deadline, "the camera did not settle"
+        time.sleep(0.05)
+        now = pose()
+        if now != last:
+            last, since = now, time.monotonic()
+    position, look_at, up, fov = last
+    return np.array(position), np.array(look_at), np.array(up), fov
+
+
+def _projector(page, view):
+    """A function from a world point to page pixels, from the client's camera (three.js
+    perspective: vertical fov, the canvas's aspect)."""
+    position, look_at, up, fov = _settled_camera(view)
+    box = page.locator("canvas").first.bounding_box()
+    back = position - look_at
+    back /= np.linalg.norm(back)
+    right = np.cross(up, back)
+    right /= np.linalg.norm(right)
+    true_up = np.cross(back, right)
+    tan = math.tan(fov / 2)
+    aspect = box["width"] / box["height"]
+
+    def project(point: np.ndarray) -> tuple[float, float]:
+        d = np.asarray(point, float) - position
+        depth = -float(d @ back)
+        x, y = float(d @ right) / depth / (tan * aspect), float(d @ true_up) / depth / tan
+        return (box["x"] + (x + 1) / 2 * box["width"], box["y"] + (1 - y) / 2 * box["height"])
+
+    return project
+
+
+def _drag_arrow(page, view, key: str, axis: int, delta: float, tries: int = 3) -> None:
+    """Grab handle `key`'s arrow along display `axis` and drag it `delta` scene units; a
+    gesture that missed the arrow (it turned the camera instead) is tried again from the
+    camera it left."""
+    drawn = view.handles.drawn[key]
+    direction = np.eye(3)[axis]
+    for _ in range(tries):
+        project = _projector(page, view)
+        grab = np.asarray(drawn.gizmo.position, float) + ARM * drawn.gizmo.scale * direction
+        moves = view.handles.moves
+        x0, y0 = project(grab)
+        x1, y1 = project(grab + delta * direction)
+        page.mouse.move(x0, y0)
+        page.mouse.down()
+        for k in range(1, STEPS + 1):
+            page.mouse.move(x0 + (x1 - x0) * k / STEPS, y0 + (y1 - y0) * k / STEPS)
+        page.mouse.up()
+        deadline = time.monotonic() + 10.0
+        while view.handles.moves == moves and time.monotonic() < deadline:
+            time.sleep(0.05)
+        if view.handles.moves > moves:
+            until(lambda: not drawn.dragging, f"the release of '{key}'")
+            assert view.session.wait_idle(PATIENCE)
+            return
+    raise AssertionError(f"{tries} mouse gestures did not grab handle '{key}'")
+
+
+def _on(tab, mission_key: str):
+    page, view = tab()
+    view.session.select_mission(get_mission(mission_key))
+    until(lambda: view.session.wait_idle(PATIENCE) and view.geometry is not None
+          and view.session.latest.mission == mission_key, f"the {mission_key} drawing")
+    return page, view
+
+
+def test_dragging_the_carts_target_with_the_mouse_moves_the_distance_and_the_optimum(tab):
+    page, view = _on(tab, "bang-bang")
+    drawn_before = view.drawn
+    _drag_arrow(page, view, "target", axis=0, delta=1.5)  # from d = 1 m towards 2.5 m
+    distance = view.session.values["distance"]
+    assert distance == pytest.approx(2.5, rel=0.25) and distance != 1.0
+    assert view.controls.fields["distance"].slider.value == pytest.approx(distance)
+    until(lambda: f"v.distance={distance:.12g}" in view.link.writer.content, "the link")
+    sol = view.session.latest
+    assert sol.converged and sol.values["distance"] == distance and view.drawn > drawn_before
+    assert sol.cost.value == pytest.approx(2 * math.sqrt(distance), rel=2e-3)  # Kirk 1970

@@ -1,0 +1,135 @@
+"""Handles dragged in the 3D view (issue 19), without a browser: the records bind real
+parameters, a drag position inverts to values and stops at the range's end, and a drag in a
+live view sets the values, moves the slider and brings a new optimum (checked against the
+analytic minimum time of Kirk 1970, ex. 5.3-1: T* = 2 sqrt(d / a)); the keep-out sphere of
+the gallery drags and the path re-solves around it."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from solvers import get_mission, list_missions
+from solvers.handles import Axis, Handle, check_bindings, values_at
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+PATIENCE = 120.0
+
+
+def test_every_missions_handles_bind_numeric_parameters():
+    declared = {}
+    for m in list_missions():
+        check_bindings((*m.handles, *(s.handle for s in m.shapes)), m.all_params(),
+                       m.view_params)
+        declared[m.key] = {p for h in m.handles for p in h.params}
+    assert declared["cw-rendezvous"] == {"x0", "y0", "z0"}
+    assert declared["hovercraft"] == {"x0", "y0", "xf", "yf"}
+    assert declared["bang-bang"] == {"distance"}
+    assert declared["lunar-landing"] == {"altitude0"}
+    assert declared["apollo-reentry"] == {"h0"}
+    with pytest.raises(ValueError, match="'nope' is not a numeric parameter"):
+        check_bindings((Handle("h", "h", ("nope", 0.0, 0.0)),), m.all_params(), ())
+
+
+def test_a_position_inverts_to_values_locked_axes_ignored_and_clamped_at_the_range():
+    cw = get_mission("cw-rendezvous")
+    start, = cw.handles
+    view = cw.view_defaults()
+    moved = values_at(start, (20e3, -1e3, 300.0), cw.params, view)
+    assert moved.values == {"x0": 20e3, "y0": -1e3, "z0": 300.0} and moved.held == ()
+    assert start.where(cw.defaults() | moved.values, view) == (20e3, -1e3, 300.0)
+    far = values_at(start, (250e3, 0.0, -80e3), cw.params, view)
+    assert far.values["x0"] == 100e3 and far.values["z0"] == -50e3
+    assert set(far.held) == {"x0", "z0"}
+    assert not start.shown_in(view | {"view": 1})  # the inertial view turns the axes
+    # The reentry's entry point: r = R + k h, k the altitude exaggeration (a view option).
+    reentry = get_mission("apollo-reentry")
+    entry, = reentry.handles
+    r = entry.axes[0].offset + 20.0 * 100e3
+    assert values_at(entry, (r, 5.0, 5.0), reentry.params,
+                     {"exaggerate": 20.0}).values == {"h0": pytest.approx(100e3)}
+    held = values_at(entry, (r, 0.0, 0.0), reentry.params, {"exaggerate": 10.0})
+    assert held.values == {"h0": 180e3} and held.held == ("h0",)  # 200 km > the range
+    assert values_at(Handle("a", "a", (Axis("distance", scale=2.0), 0.0, 0.0)), (3.0, 0, 0),
+                     get_mission("bang-bang").params, {}).values == {"distance": 1.5}
+
+
+@pytest.fixture()
+def live():
+    """`live(mission)`: a real view on a server-side GUI and scene (no browser)."""
+    import viser
+
+    from explorer.capture import free_port
+    from explorer.view import View
+
+    server = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)
+    views = []
+
+    def make(mission, method=None):
+        view = View(server.gui, server.scene, server.atomic, [mission], mission, method)
+        view.reports = []
+        view.handles.report = lambda title, message: view.reports.append((title, message))
+        views.append(view)
+        assert view.session.wait_idle(PATIENCE) and view.drawn
+        return view
+
+    yield make
+    for view in views:
+        view.close()
+    server.stop()
+
+
+def _drag(view, key: str, points: list[tuple[float, float, float]]) -> None:
+    """A whole gesture through `points` (scene units), then wait for the last solve."""
+    handles = view.handles
+    handles.drag(key, points[0], "start")
+    for p in points:
+        handles.drag(key, p)
+    handles.drag(key, points[-1], "end")
+    assert view.session.wait_idle(PATIENCE)
+
+
+def test_dragging_the_carts_target_sets_the_distance_the_slider_and_a_new_optimum(live):
+    view = live(get_mission("bang-bang"))
+    drawn = view.handles.drawn["target"]
+    assert tuple(drawn.gizmo.active_axes) == (True, False, False)  # along the rail only
+    assert np.allclose(drawn.gizmo.position, (1.0, 0.0, 0.0))  # where the path ends
+    _drag(view, "target", [(1.5, 0.0, 0.0), (2.0, 0.3, 0.0)])  # off-rail motion is ignored
+    assert view.session.values["distance"] == 2.0
+    assert view.controls.fields["distance"].slider.value == 2.0
+    sol = view.session.latest
+    assert sol.converged and sol.values["distance"] == 2.0
+    assert sol.cost.value == pytest.approx(2 * math.sqrt(2.0), rel=2e-3)  # Kirk 1970
+    assert np.allclose(view.geometry.points[-1], (2.0, 0.0, 0.0), atol=1e-6)
+    # Past the range's end: held at 100 m, said beside the handle and once at release.
+    _drag(view, "target", [(50.0, 0.0, 0.0), (500.0, 0.0, 0.0)])
+    assert view.session.values["distance"] == 100.0
+    assert np.allclose(drawn.gizmo.position, (100.0, 0.0, 0.0))  # snapped back to the end
+    assert "end of range" in drawn.label.text
+    assert any("held at the end of the range" in m for _, m in view.reports)
+    assert view.session.latest.cost.value == pytest.approx(20.0, rel=2e-3)  # 2 sqrt(100)
+
+
+def test_the_keep_out_sphere_drags_and_the_path_bends_around_it(live):
+    from solvers.mission_file import load_mission_file
+
+    mission = load_mission_file(EXAMPLES / "keep_out_rendezvous.py")
+    view = live(mission)
+    drawn = view.handles.drawn["keep-out"]
+    assert drawn.mesh.radius == pytest.approx(800.0) and tuple(drawn.gizmo.active_axes) == (
+        True, True, False)
+    # Display axes are (along-track y, radial x): the centre moves into the corner the path
+    # turns, to x = 100, y = -100 m.
+    _drag(view, "keep-out", [(-50.0, 50.0, 0.0), (-100.0, 100.0, 0.0)])
+    values = view.session.values
+    assert (values["zone_x"], values["zone_y"]) == (100.0, -100.0)
+    sol = view.session.latest
+    assert sol.converged, sol.message
+    distance = np.hypot(sol.node_x[:, 0] - 100.0, sol.node_x[:, 1] + 100.0)
+    assert distance.min() >= 800.0 * (1 - 1e-6)  # outside the moved zone at every node
+    assert (distance < 800.5).sum() >= 3  # and sliding along it: the constraint is active
+    origin = np.hypot(sol.node_x[:, 0], sol.node_x[:, 1])
+    assert origin[5:-5].min() > 820.0  # pushed out, past the old zone's surface

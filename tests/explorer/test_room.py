@@ -1,0 +1,231 @@
+"""The classroom's logic without a browser: followers mirror the teacher's case and draw the
+teacher's own solutions (no solve of their own), a follower's move branches and never reaches
+the teacher, rejoin and bring-everyone-back, the teacher leaving and coming back, challenges
+that freeze values and rank verified optima only."""
+
+from __future__ import annotations
+
+import threading
+import time
+
+import numpy as np
+import pytest
+
+from explorer.panels.room import board_html, members_html
+from explorer.room import Leaderboard, Room
+from explorer.room_session import Challenge, RoomSession
+from explorer.runners import LocalRunner
+from explorer.session import Session
+from solvers.mission import Mission, SolveContext
+from solvers.problem import Method, Param
+from solvers.solution import Quantity, Solution
+
+
+class SumMission(Mission):
+    """cost = x + y; x = 7 fails; y = 9 converges but its check finds it inaccurate."""
+
+    key = "sum"
+    title = "Sum test mission"
+    summary = "returns x + y as the cost"
+    source = "test"
+    params = (Param("x", "x", "m", 1.0, 0.0, 10.0, 0.5),
+              Param("y", "y", "m", 1.0, 0.0, 10.0, 0.5))
+    methods = (Method("only", "only method", "test", "adds", nodes=(2, 3, 9)),)
+
+    def __init__(self) -> None:
+        self.solved: list[dict[str, float]] = []
+        self.lock = threading.Lock()
+
+    def _solve(self, values, method, nodes, backend, warm, ctx: SolveContext) -> Solution:
+        with self.lock:
+            self.solved.append(dict(values))
+        time.sleep(0.01)
+        status = "failed" if values["x"] == 7.0 else "optimal"
+        sol = Solution(mission=self.key, method=method.key, nodes=nodes, status=status,
+                       message="", cost=Quantity(values["x"] + values["y"], "cost", "m"),
+                       values=dict(values), t=np.array([0.0, 1.0]))
+        sol.targets = {"miss_m": 1.0}
+        miss = 2.0 if values["y"] == 9.0 else 0.0
+        sol.checker = lambda: {"miss_m": miss}
+        return sol
+
+
+class Counting(LocalRunner):
+    """A runner that counts the solves it starts."""
+
+    def __init__(self) -> None:
+        self.started = 0
+
+    def start(self, solve, cancel, progress):
+        self.started += 1
+        return super().start(solve, cancel, progress)
+
+
+class Heard:
+    """A listener keeping the solutions it was shown."""
+
+    def __init__(self) -> None:
+        self.results: list[Solution] = []
+        self.configs = 0
+
+    def on_config(self, session) -> None:
+        self.configs += 1
+
+    def on_result(self, request, solution) -> None:
+        self.results.append(solution)
+
+
+def until(condition, what: str, timeout: float = 10.0):
+    deadline = time.monotonic() + timeout
+    while not (value := condition()):
+        assert time.monotonic() < deadline, f"timed out waiting for {what}"
+        time.sleep(0.005)
+    return value
+
+
+@pytest.fixture()
+def room():
+    mission = SumMission()
+    lead = Session(mission)
+    room = Room(lead)
+    lead.submit()
+    students = []
+
+    def student(member_id: int) -> tuple[RoomSession, Heard]:
+        session = RoomSession(mission, auto=False, runner=Counting())
+        session.auto = True
+        session.submit()  # a view's first solve: held, never run
+        heard = Heard()
+        session.listeners.append(heard)
+        room.join(member_id, session)
+        students.append(session)
+        return session, heard
+
+    yield mission, lead, room, student
+    for s in students:
+        s.close()
+    room.close()
+    lead.close()
+
+
+def test_followers_draw_the_teachers_solution_without_solving(room):
+    mission, lead, room, student = room
+    (a, heard_a), (b, heard_b) = student(1), student(2)
+    until(lambda: heard_a.results and heard_b.results, "the followers' first picture")
+    lead.set_value("x", 3.0)
+    lead.wait_idle(10)
+    until(lambda: heard_a.results[-1] is lead.last_good and heard_b.results[-1]
+          is lead.last_good, "the teacher's new optimum on both followers")
+    assert a.runner.started == b.runner.started == 0  # one solve for the room, not per tab
+    assert a.values["x"] == b.values["x"] == 3.0 and a.last_good is lead.last_good
+
+
+def test_a_followers_move_branches_and_never_reaches_the_teacher(room):
+    mission, lead, room, student = room
+    (a, heard_a), (b, heard_b) = student(1), student(2)
+    until(lambda: heard_a.results and heard_b.results, "the followers' first picture")
+    a.set_value("y", 4.0)
+    assert not a.following and room.members[1].state == "exploring"
+    a.wait_idle(10)
+    assert a.runner.started == 1 and b.runner.started == 0
+    assert lead.values["y"] == 1.0 and b.values["y"] == 1.0
+    until(lambda: heard_a.results[-1].values["y"] == 4.0, "the student's own answer")
+    lead.set_value("x", 2.0)
+    lead.wait_idle(10)
+    until(lambda: heard_b.results[-1] is lead.last_good, "the follower's new picture")
+    assert a.values == {"x": 1.0, "y": 4.0}  # the explorer keeps its own case
+
+    room.follow(1)
+    until(lambda: heard_a.results[-1] is lead.last_good, "the rejoined student's picture")
+    assert a.following and a.values["x"] == 2.0
+    a.branch()
+    b.branch()
+    room.bring_back()
+    assert a.following and b.following
+
+
+def test_the_teacher_leaves_and_comes_back(room):
+    mission, lead, room, student = room
+    (_, heard_a), (t, _) = student(1), student(2)
+    until(lambda: heard_a.results, "the first picture")
+    room.promote(2)
+    assert room.lead is t and room.teacher.id == 2 and not t.following
+    t.set_value("x", 5.0)
+    t.wait_idle(10)
+    until(lambda: heard_a.results[-1].values["x"] == 5.0, "the teacher's case on the student")
+    room.leave(2)
+    assert room.lead is None and room.case.values["x"] == 5.0
+    (c, heard_c) = student(3)  # joins while no teacher: the last case
+    until(lambda: heard_c.results and heard_c.results[-1].values["x"] == 5.0,
+          "the last case on a late student")
+    assert [m.id for m in room.students()] == [1, 3]
+
+
+def test_the_teacher_puts_a_students_case_on_the_projector(room):
+    mission, lead, room, student = room
+    (a, heard_a), (_, heard_b) = student(1), student(2)
+    until(lambda: heard_a.results and heard_b.results, "the first picture")
+    a.set_value("y", 6.0)
+    a.wait_idle(10)
+    room.project(1)
+    lead.wait_idle(10)
+    assert lead.values == {"x": 1.0, "y": 6.0} and lead.last_good.values["y"] == 6.0
+    until(lambda: heard_b.results[-1] is lead.last_good, "the projected case on a follower")
+    assert not a.following  # the student whose case it is keeps exploring
+
+
+def test_a_challenge_freezes_values_and_ranks_verified_optima(room):
+    mission, lead, room, student = room
+    (a, heard_a), (b, heard_b) = student(1), student(2)
+    refused: list[str] = []
+    a.on_refused = lambda key, message: refused.append(key)
+    until(lambda: heard_a.results and heard_b.results, "the first picture")
+    room.start_challenge("least x + y", ["x"])
+    assert not a.following and a.frozen == {"x": 1.0}
+    a.set_value("x", 0.0)  # frozen: refused, nothing solved
+    a.set_values({"x": 0.0, "y": 3.0})  # a 3D handle's drag: refused as a whole
+    assert refused == ["x", "x"] and a.values == {"x": 1.0, "y": 1.0}
+    a.set_value("y", 9.0)  # converges, but its check finds it inaccurate: not ranked
+    a.wait_idle(10)
+    b.set_value("y", 2.0)
+    b.wait_idle(10)
+    a.set_value("y", 0.5)
+    a.wait_idle(10)
+    ranking = until(lambda: len(room.board.ranking()) == 2 and room.board.ranking(),
+                    "two entries")
+    assert [(e.member, e.cost) for e in ranking] == [(1, 1.5), (2, 3.0)]
+    html = board_html(room.board, running=True)
+    assert "least x + y" in html and html.index("student 1") < html.index("student 2")
+    assert "exploring" in members_html(room.students())
+    room.end_challenge()
+    a.set_value("x", 0.0)
+    assert a.values["x"] == 0.0
+
+
+def test_the_leaderboard_admits_only_optimal_answers_of_the_challenge():
+    board = Leaderboard(Challenge("sum", "least", {"x": 1.0}))
+
+    def sol(status: str, x: float, cost: float, mission: str = "sum") -> Solution:
+        return Solution(mission=mission, method="only", nodes=3, status=status, message="",
+                        cost=Quantity(cost, "cost", "m"), values={"x": x, "y": 0.0})
+
+    assert not board.offer(1, "a", sol("inaccurate", 1.0, 0.1))
+    assert not board.offer(1, "a", sol("optimal", 2.0, 0.1))  # a frozen value moved
+    assert not board.offer(1, "a", sol("optimal", 1.0, 0.1, mission="other"))
+    assert board.offer(1, "a", sol("optimal", 1.0, 0.5))
+    assert not board.offer(1, "a", sol("optimal", 1.0, 0.7))  # worse than a's best
+    assert board.offer(2, "b", sol("optimal", 1.0, 0.2))
+    assert [e.name for e in board.ranking()] == ["b", "a"]
+
+
+@pytest.mark.parametrize("argv", [["--teacher-secret", "abcdefgh12"],  # without --classroom
+                                  ["--classroom", "--teacher-secret", "short"],
+                                  ["--classroom", "--teacher-secret", "has a space in it"],
+                                  ["--classroom", "--shared"]])
+def test_bad_classroom_options_are_refused(argv, capsys):
+    from explorer.__main__ import main
+
+    with pytest.raises(SystemExit) as exit_info:
+        main(argv)
+    assert exit_info.value.code == 2
+    assert "error:" in capsys.readouterr().err

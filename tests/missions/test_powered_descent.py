@@ -1,0 +1,131 @@
+"""Mars powered descent (Açıkmeşe & Ploen 2007; Blackmore, Açıkmeşe & Scharf 2010).
+
+No published fuel or flight time was found for the papers' example (m_wet 1905 kg, m_dry
+1505 kg, Isp 225 s, 6 x 3100 N canted 27°, throttle 0.3-0.8, g = 3.7114 m/s²; the data as
+restated by the Waterloo ECE 602 reproduction of Blackmore et al., 2016), so the checks are
+independent methods against each other: the lossless SOCP (convex relaxation, its own
+discretisation), IPOPT on the nonconvex original (Hermite-Simpson) and SCvx on the same NLP;
+the relaxation's claim |T| = Γ >= ρ1 at every node; and the bounds that make a request
+impossible, named.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import solvers
+from solvers.methods import SCVX
+from solvers.mission import SolveContext
+from solvers.missions.powered_descent.lossless import descent_socp
+from solvers.missions.powered_descent.model import P_RHO1, parameter_vector
+
+KEY = "powered-descent"
+
+
+def test_three_methods_agree_on_the_fuel_within_a_tenth_of_a_percent(solved) -> None:
+    fuel = {m: solved(KEY, m, None, {}).value("fuel") for m in ("lossless", "scvx",
+                                                                  "hermite-simpson")}
+    assert all(np.isfinite(v) for v in fuel.values()), fuel
+    assert max(fuel.values()) - min(fuel.values()) <= 1e-3 * max(fuel.values()), fuel
+    # Minimum fuel is not minimum time: the optimum throttles down to ρ1 in between.
+    assert 300.0 < fuel["lossless"] < 400.0
+
+
+def test_scvx_finds_the_nlp_optimum_that_ipopt_finds(solved) -> None:
+    """Same Hermite-Simpson NLP, two solvers: the same local optimum to solver accuracy."""
+    scvx = solved(KEY, "scvx", None, {})
+    ipopt = solvers.get_mission(KEY).solve({}, method="hermite-simpson", nodes=scvx.nodes,
+                                           verify=False)
+    assert scvx.converged and ipopt.converged
+    assert abs(scvx.cost.value - ipopt.cost.value) <= 1e-6 * ipopt.cost.value
+    # The fuel is flat in tf near the optimum, so tf is fixed less sharply than the fuel.
+    assert abs(scvx.value("tf") - ipopt.value("tf")) <= 1e-3 * ipopt.value("tf")
+
+
+def test_lossless_relaxation_is_tight_at_every_node(solved) -> None:
+    sol = solved(KEY, "lossless", None, {})
+    rho1 = parameter_vector(sol.values)[P_RHO1]
+    thrust = np.linalg.norm(sol.node_u, axis=1)
+    assert np.all(thrust >= rho1 * (1 - 1e-5)), thrust.min() / rho1
+    assert sol.value("slack_gap") <= 1e-5 * rho1
+    assert "‖T‖ ≥ ρ1 holds" in sol.message
+    # The lower bound is really active (the nonconvex constraint matters): a minimum-throttle arc.
+    assert np.any(np.abs(thrust - rho1) <= 1e-3 * rho1)
+
+
+def test_lossless_is_compiled_once_and_resolved_warm() -> None:
+    mission = solvers.get_mission(KEY)
+    cold = mission.solve({}, method="lossless", nodes=20, verify=False)
+    assert descent_socp(20) is descent_socp(20)  # one compiled problem per node count
+    warm = mission.solve({"vx0": 95.0}, method="lossless", nodes=20, warm=cold, verify=False)
+    assert cold.status == warm.status == "optimal", (cold.message, warm.message)
+    assert warm.stats["socp_solves"] < cold.stats["socp_solves"]
+
+
+def test_out_of_reach_target_names_the_bound_then_minimum_landing_error() -> None:
+    mission = solvers.get_mission(KEY)
+    far = {"downrange0": 5000.0, "vx0": 150.0}
+    refused = mission.solve(far, method="lossless", nodes=20, verify=False)
+    assert refused.status == "infeasible"
+    assert "out of reach" in refused.message and "m_dry" in refused.message
+    closest = mission.solve({**far, "objective": 1}, method="lossless", nodes=20, verify=False)
+    assert closest.status == "optimal", closest.message
+    assert closest.value("landing_error") > 100.0
+    # Blackmore et al.: the least landing error spends all the propellant.
+    assert closest.value("fuel") == pytest.approx(400.0, abs=0.5)
+
+
+@pytest.mark.parametrize(("values", "words"), [
+    ({"max_speed": 100.0}, "maximum speed"),
+    ({"glide_slope": 0.9}, "glide-slope cone"),
+    ({"thrust_each": 900.0}, "thrust-to-weight"),
+    ({"mass_dry": 1880.0}, "m_dry"),
+])
+def test_impossible_requests_name_the_bound(values: dict, words: str) -> None:
+    mission = solvers.get_mission(KEY)
+    sol = mission.solve(values, method="lossless", nodes=20, verify=False)
+    assert sol.status == "infeasible", sol.message
+    assert words in sol.message
+
+
+def test_inconsistent_inputs_are_refused() -> None:
+    mission = solvers.get_mission(KEY)
+    with pytest.raises(ValueError, match="dry mass"):
+        mission.solve({"mass_dry": 1950.0}, method="lossless")
+    with pytest.raises(ValueError, match="throttle lower bound"):
+        mission.solve({"throttle_min": 0.85}, method="lossless")
+
+
+# ---- SCvx as a general method on other missions' OCPs ---------------------------------------
+
+def _scvx_solve(key: str) -> tuple[float, float]:
+    """(SCvx cost, IPOPT cost) on the same Hermite-Simpson NLP at the mission's defaults."""
+    mission = solvers.get_mission(key)
+    hs = mission.method("hermite-simpson")
+    values, _, nodes = mission.validate({}, hs.key, None)
+    costs = []
+    for method, backend in ((SCVX.replace(nodes=hs.nodes), "scvx"), (hs, "ipopt")):
+        ctx = SolveContext()
+        sol = (mission._solve(values, method, nodes, backend, None, ctx)
+               if mission.solves_itself(method)
+               else mission.solve_direct(values, method, nodes, backend, None, ctx))
+        assert sol.status == "optimal", f"{key}/{backend}: {sol.message}"
+        costs.append(sol.cost.value)
+    return costs[0], costs[1]
+
+
+@pytest.mark.slow
+def test_scvx_reaches_the_lunar_landing_optimum() -> None:
+    scvx, ipopt = _scvx_solve("lunar-landing")
+    # Paper 002's Pontryagin reference: fuel 270.77465 kg (SPEC M3).
+    assert scvx == pytest.approx(270.77465, rel=1e-7)
+    assert scvx == pytest.approx(ipopt, rel=1e-7)
+
+
+@pytest.mark.slow
+def test_scvx_reaches_the_hovercraft_optimum() -> None:
+    scvx, ipopt = _scvx_solve("hovercraft")
+    # The maximum principle's minimum time T* = 2.4954276 s (README, hovercraft).
+    assert scvx == pytest.approx(2.4954276, rel=1e-6)
+    assert scvx == pytest.approx(ipopt, rel=1e-7)
