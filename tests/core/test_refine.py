@@ -32,6 +32,7 @@ def test_auto_refines_the_lunar_touchdown_to_a_tighter_target():
     assert "auto nodes" in sol.message
 
 
+@pytest.mark.slow  # two to four 150-450 segment solves with their cost estimates: ~2 min
 def test_asteroid_auto_nodes_reach_an_arrival_miss_under_one_kilometre():
     """The default 150 segments miss by tens of km; auto refinement to 1 km (warm-started
     from the 150-segment answer) gets under it."""

@@ -10,7 +10,8 @@ from browser_support import HEIGHT, PATIENCE_MS, WIDTH, until
 
 
 @pytest.fixture(scope="module")
-def app() -> Iterator:
+def app(request) -> Iterator:
+    """The module's app; a module's `MISSION_FILES` (paths) add users' missions to it."""
     pytest.importorskip("playwright.sync_api", reason="Python Playwright is not installed")
     from explorer.app import ExplorerApp
     from explorer.capture import CAPTURE_TIME_LIMIT, chromium, free_port
@@ -18,7 +19,8 @@ def app() -> Iterator:
     # The screenshot's time limit, not the live 5 s: on a loaded machine a cold build may take
     # longer, and these tests are about what the page shows, not how fast.
     server = ExplorerApp("127.0.0.1", free_port(), "lunar-landing", "hermite-simpson",
-                         time_limit=CAPTURE_TIME_LIMIT)
+                         time_limit=CAPTURE_TIME_LIMIT,
+                         mission_files=getattr(request.module, "MISSION_FILES", ()))
     with chromium(WIDTH, HEIGHT) as context:
         context.set_default_timeout(PATIENCE_MS)
         server.context = context
