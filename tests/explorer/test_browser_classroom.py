@@ -12,7 +12,10 @@ from collections.abc import Iterator
 import pytest
 from browser_support import BROWSER, HEIGHT, PATIENCE_MS, WIDTH, until
 
-pytestmark = BROWSER
+# Slow set for now: in one full default run on a quiet machine the first three of these failed
+# after test_browser.py, while the module passes alone (5 of 5, three runs): not yet understood,
+# so kept out of CI's default set until it is (issue 20). `-m slow` runs them.
+pytestmark = [*BROWSER, pytest.mark.slow]
 pytest.importorskip("playwright.sync_api", reason="Python Playwright is not installed")
 
 SECRET = "classroom-test-key-7Qx2"
