@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from urllib.parse import parse_qs, urlsplit
 
-from browser_support import BROWSER, until
+from browser_support import BROWSER, PATIENCE_MS, until
 
 pytestmark = BROWSER
 VERDICT = "Checked from the initial guess"
@@ -39,7 +39,7 @@ def test_the_address_follows_a_refinement_and_restores_it(tab):
     nodes = view.session.nodes
     until(lambda: _address(page).get("nodes") == str(nodes),
            f"nodes={nodes} in the address (it said {_address(page).get('nodes')})", 20.0)
-    page.locator(f"text=intervals {nodes}").first.wait_for(timeout=20e3)  # the status's word
+    page.locator(f"text=intervals {nodes}").first.wait_for(timeout=PATIENCE_MS)  # the status's word
     query = urlsplit(page.evaluate("() => location.href")).query
     _, other = tab(query)
     until(lambda: other.session.nodes == nodes, "the refined node count restored")
@@ -52,7 +52,7 @@ def test_a_verdict_is_cleared_with_its_case(tab):
     _solved(view)
     page.get_by_text("Accuracy and optimality").first.click()
     view.session.check_from_cold()
-    page.get_by_text(VERDICT).first.wait_for(timeout=60e3)
+    page.get_by_text(VERDICT).first.wait_for(timeout=PATIENCE_MS)
     view.session.select_mission(get_mission("bang-bang"))
     _solved(view, "bang-bang")
     until(lambda: "hermite-simpson" in _status(page) and "final time" in _status(page)
@@ -85,9 +85,9 @@ def test_read_outs_are_labels_and_a_prefixed_unit_is_taken(tab):
     _solved(view)
     box = _box_with(page, "2000")  # thrust [N]
     box.fill("3 kN")  # where "2500 N" is taken
-    until(lambda: view.session.values["thrust"] == 3000.0, "3 kN taken as 3000 N", 20.0)
+    until(lambda: view.session.values["thrust"] == 3000.0, "3 kN taken as 3000 N")
     page.get_by_role("tab", name="Play").click()
-    page.get_by_text("radial speed").first.wait_for(timeout=20e3)
+    page.get_by_text("radial speed").first.wait_for(timeout=PATIENCE_MS)
     text = page.locator("body").inner_text()
     rows = {line.split("\t")[0].strip() for line in text.splitlines() if "\t" in line}
     for raw in ("v", "theta", "omega", "control psi"):
@@ -101,7 +101,7 @@ def test_the_comparison_table_reads_well_and_fits_beside_the_scrollbar(tab):
     page.get_by_role("tab", name="Compare").click()
     view.session.compare(["hermite-simpson", "multiple-shooting"])
     table = page.locator("#comparison-table")
-    table.wait_for(timeout=90e3)
+    table.wait_for(timeout=PATIENCE_MS)
     cells = table.locator("td").all_inner_texts()
     assert not [c for c in cells if "e-" in c or "e+" in c], cells  # no 1.12086e-26
     assert "< 1 mm" in cells  # the final altitude of a converged landing
@@ -136,7 +136,7 @@ def test_the_time_limit_box_refuses_bad_entries(tab):
     _solved(view)
     page.get_by_role("tab", name="Export").click()
     label = page.get_by_text("solve time limit [s]", exact=True).first
-    label.wait_for(timeout=20e3)
+    label.wait_for(timeout=PATIENCE_MS)
     box = label.locator("xpath=ancestor::div[.//input][1]//input").first
     before = view.session.time_limit
     shown = box.input_value()
@@ -144,13 +144,13 @@ def test_the_time_limit_box_refuses_bad_entries(tab):
     for typed, said in (("-5", "-5 s"), ("1e999", "inf s"), ("0.0001", "0.0001 s")):
         box.fill(typed)
         page.get_by_text(f"{said} is outside the allowed range: enter a time from 0.1 to "
-                         "600 s").first.wait_for(timeout=20e3)
-        until(lambda: box.input_value() == shown, f"the old limit back after {typed!r}", 20.0)
+                         "600 s").first.wait_for(timeout=PATIENCE_MS)
+        until(lambda: box.input_value() == shown, f"the old limit back after {typed!r}")
         assert view.session.time_limit == before
     box.fill("12 s")
-    until(lambda: view.session.time_limit == 12.0, "a good limit taken", 20.0)
+    until(lambda: view.session.time_limit == 12.0, "a good limit taken")
     box.fill(shown)
-    until(lambda: view.session.time_limit == before, "the limit put back", 20.0)
+    until(lambda: view.session.time_limit == before, "the limit put back")
 
 
 def test_a_long_or_malformed_link_opens_the_default_case_with_a_message(tab):
@@ -158,8 +158,8 @@ def test_a_long_or_malformed_link_opens_the_default_case_with_a_message(tab):
 
     default = get_mission("lunar-landing").defaults("hermite-simpson")["thrust"]
     page, view = tab("mission=lunar-landing&v.thrust=" + "1" * 10_000)  # over 8 kB
-    page.get_by_text("the link is too long").first.wait_for(timeout=20e3)
+    page.get_by_text("the link is too long").first.wait_for(timeout=PATIENCE_MS)
     assert view.session.values["thrust"] == default
     page, view = tab("mission=lunar-landing&nodes=%C2%B2")  # nodes=²
-    page.get_by_text("is not a whole number").first.wait_for(timeout=20e3)
+    page.get_by_text("is not a whole number").first.wait_for(timeout=PATIENCE_MS)
     assert view.session.nodes == get_mission("lunar-landing").method("hermite-simpson").nodes[1]
