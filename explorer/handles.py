@@ -76,9 +76,10 @@ class Handles:
     view calls `place` after every drawing."""
 
     def __init__(self, scene: viser.SceneApi, session: Session, controls: Controls,
-                 report: Report, root: str = "") -> None:
+                 report: Report, root: str = "",
+                 released: Callable[[], None] = lambda: None) -> None:
         self.scene, self.session, self.controls = scene, session, controls
-        self.report, self.root = report, root
+        self.report, self.root, self.released = report, root, released
         self.moves = 0  # drag events that set values (tests and benchmarks count them)
         self._drawn: dict[str, _Drawn] = {}
         self._scale = 1.0  # scene units per display metre (the presentation's display_scale)
@@ -90,6 +91,12 @@ class Handles:
     @property
     def drawn(self) -> dict[str, _Drawn]:
         return self._drawn
+
+    @property
+    def in_hand(self) -> bool:
+        """Whether a hand holds a handle now (the view keeps its camera still meanwhile, so
+        the point under the mouse does not slip)."""
+        return any(d.dragging for d in self._drawn.values())
 
     def _params(self) -> dict[str, Param]:
         return {p.key: p for p in self.session.mission.all_params(self.session.method)}
@@ -113,7 +120,7 @@ class Handles:
                 if drawn is None:
                     drawn = self._drawn[handle.key] = self._add(handle, shape)
                 drawn.gizmo.visible = handle.shown_in(view)
-                if drawn.gizmo.scale != self._size:
+                if drawn.gizmo.scale != self._size and not drawn.dragging:
                     drawn.gizmo.scale = self._size
             self._sync(self.session.values)
 
@@ -193,6 +200,8 @@ class Handles:
             return
         with self._lock:
             self._sync(self.session.values)
+        if phase == "end":
+            self.released()
         if phase == "end" and moved.held:
             params = self._params()
             ends = "; ".join(f"{params[k].label} {params[k].describe_range()}"

@@ -15,7 +15,7 @@ from solvers.presentation import Presentation
 from solvers.solution import Solution
 
 from .geometry import PALETTE, ghost_geometry, path_segments
-from .plots import make_figure
+from .plots import figure_tree
 from .scene import SceneView
 
 REPLAY_STEP_S = 0.45  # s per iterate in the iteration replay
@@ -41,10 +41,10 @@ def comparison_layers(scene: SceneView, lock: AbstractContextManager,
 
 
 def comparison_figure(labels: list[str], colors: list[tuple[int, int, int]],
-                      presentations: list[Presentation | None], dark: bool):
-    """The plots of every compared solution overlaid, in their colours."""
+                      presentations: list[Presentation | None], dark: bool) -> dict:
+    """The plots of every compared solution overlaid, in their colours (a plotly tree)."""
     first = next((p for p in presentations if p is not None), None)
-    return make_figure([], dark=dark, overlays=[
+    return figure_tree([], dark=dark, overlays=[
         (label, color, pres.plots) for label, color, pres
         in zip(labels, colors, presentations, strict=True) if pres is not None],
         time_unit=first.time_unit if first else "s",

@@ -15,7 +15,10 @@ from solvers.mission import Mission
 from solvers.mission_file import MissionFileError, load_mission_file
 from solvers.registry import expand_mission_paths, register
 
-POLL_S = 0.5  # s between looks at the files' modification times
+# s between looks at the files: a change is loaded once the file has stayed the same for one
+# look (an editor's save, or a write seen half done, is not read while it is still moving).
+POLL_S = 0.25
+Signature = tuple[int, int]  # (modification time in ns, size in bytes)
 
 
 class MissionFiles:
@@ -27,7 +30,8 @@ class MissionFiles:
         self.paths = expand_mission_paths(list(paths))
         self.on_loaded, self.on_error = on_loaded, on_error
         self.errors: dict[str, str] = {}
-        self._mtimes = {p: self._mtime(p) for p in self.paths}
+        self._seen = {p: self._signature(p) for p in self.paths}
+        self._pending: dict[Path, Signature] = {}
         self._stop = threading.Event()
         for path in self.paths:
             self._load(path, notify=False)
@@ -35,11 +39,12 @@ class MissionFiles:
         self._thread.start()
 
     @staticmethod
-    def _mtime(path: Path) -> float:
+    def _signature(path: Path) -> Signature:
         try:
-            return path.stat().st_mtime_ns
+            stat = path.stat()
         except OSError:
-            return -1.0
+            return (-1, -1)
+        return (stat.st_mtime_ns, stat.st_size)
 
     def _load(self, path: Path, notify: bool = True) -> None:
         try:
@@ -59,9 +64,11 @@ class MissionFiles:
     def _watch(self) -> None:
         while not self._stop.wait(POLL_S):
             for path in self.paths:
-                mtime = self._mtime(path)
-                if mtime != self._mtimes.get(path):
-                    self._mtimes[path] = mtime
+                now = self._signature(path)
+                if now != self._seen[path]:
+                    self._pending[path] = self._seen[path] = now
+                elif self._pending.get(path) == now:  # unchanged since the last look
+                    del self._pending[path]
                     self._load(path)
 
     @property

@@ -18,7 +18,7 @@ import numpy as np
 import viser
 
 from solvers.mission import Mission
-from solvers.presentation import Presentation
+from solvers.presentation import PlotSeries, Presentation
 from solvers.solution import Solution
 
 from . import style
@@ -31,6 +31,7 @@ from .legend import legend_html
 from .link import CaseLink, case_query, parse_case
 from .optimality import color_by_error, optimality_plots
 from .overlays import IterationReplay, comparison_figure, comparison_layers, solutions_drawn
+from .page_figures import SHARED, PageFigure
 from .panels.compare import ComparePanel, comparison_html
 from .panels.export import ExportPanel
 from .panels.play import CAMERAS, PlayPanel
@@ -39,7 +40,7 @@ from .panels.side import PANEL_GAP, PLOT_PANEL, SidePanel
 from .panels.status import StatusPanel
 from .panels.trust import TrustPanel
 from .player import Track
-from .plots import make_figure, set_time_marker
+from .plots import figure_tree
 from .readouts import readout_markdown, readouts
 from .runners import Runner
 from .scene import SceneView
@@ -112,7 +113,8 @@ class View:
         self.cameras = Cameras(PLOT_PANEL[1] + PANEL_GAP)
         self._build_commands()
         self.scene = SceneView(scene, dark=self.dark, root=scene_root)
-        self.handles = Handles(scene, self.session, self.controls, self.refuse, scene_root)
+        self.handles = Handles(scene, self.session, self.controls, self.refuse, scene_root,
+                               released=self._frame_if_needed)
         self.replay = IterationReplay(self.scene, self._lock, lambda: self.presentation,
                                       self._say_replay, self._replay_done)
         self.session.listeners.append(self)
@@ -209,7 +211,7 @@ class View:
                 self._geometry, self._shown = None, None
                 self.cameras.framed = None
                 self.play.set_track(None)
-                self.side.show_figure(make_figure([], dark=self.dark), 0)
+                self.side.show_figure(PageFigure(figure_tree([], dark=self.dark), 0))
             self.status.clear()
             self.play.readout.content = ""
             self.play.t = 0.0
@@ -309,8 +311,7 @@ class View:
         pres = self.present(sol)
         geometry = build_geometry(pres, sol.t, sol.arcs, dim=dim)
         plots = self.side.page_of(pres.plots, optimality_plots(sol))
-        figure = make_figure(plots, dim=dim, dark=self.dark, time_unit=pres.time_unit,
-                             time_scale=pres.time_scale)
+        figure = self._figure(sol, pres, plots, dim)
         with self._lock, self.atomic():
             self._shown = (sol, pres, dim)
             self._drawn = _signature(pres, sol)
@@ -319,18 +320,26 @@ class View:
             self.handles.place(pres, geometry)
             if not dim:
                 self._new_track(sol, pres, geometry)
-            subplots = sum(p.group != "reference" for p in plots)
-            set_time_marker(figure, subplots,
-                            self.play.t * pres.time_scale if self.play.track else None,
-                            self.dark)
-            self.side.show_figure(figure, subplots)
+            self.side.show_figure(figure, self.play.t * pres.time_scale
+                                  if self.play.track else None, self.dark)
             self.side.show_map(pres.maps[0] if pres.maps else None, self.dark)
             self._draw_ghosts()
         self.status.legend.content = legend_html(geometry, dim=dim, failed=self._failed,
                                                  dark=self.dark)
-        if self.cameras.needs_framing(sol.mission, geometry):
-            self.apply_camera()
+        if not self.handles.in_hand:  # never under a hand: the point held would slip
+            self._frame_if_needed()
         self.drawn += 1
+
+    def _figure(self, sol: Solution, pres: Presentation, plots: list[PlotSeries],
+                dim: bool) -> PageFigure:
+        """The plots' page figure, shared with every view drawing this answer alike (a
+        classroom's followers: one figure per teacher answer, not one per tab)."""
+        look = (tuple(sorted(self.session.view.items())), self.trust.error_colors.value,
+                tuple((p.title, p.group) for p in plots), dim, self.dark)
+        subplots = sum(p.group != "reference" for p in plots)
+        return SHARED.get(sol, look, lambda: PageFigure(figure_tree(
+            plots, dim=dim, dark=self.dark, time_unit=pres.time_unit,
+            time_scale=pres.time_scale), subplots))
 
     def _redraw(self) -> None:
         """Draw what is on screen again (another page of plots was chosen)."""
@@ -375,7 +384,8 @@ class View:
         colors = comparison_layers(self.scene, self._lock, presentations)
         labels = names or [s.method for s in solutions]
         with self._lock:
-            self.side.show_figure(comparison_figure(labels, colors, presentations, self.dark), 0)
+            self.side.show_figure(PageFigure(comparison_figure(
+                labels, colors, presentations, self.dark), 0))
         self.compare.table.content = comparison_html(self.session.mission, solutions, colors,
                                                      labels)
         if self._geometry is not None:
@@ -432,11 +442,16 @@ class View:
         self._marker_at = now
         with self._lock:
             if not self._comparison:
-                set_time_marker(self.side.figure, self.side.n_series, t * pres.time_scale,
-                                self.dark)
-                self.side.resend()
+                self.side.move_marker(t * pres.time_scale, self.dark)
 
     # ---- camera -------------------------------------------------------------------------
+    def _frame_if_needed(self) -> None:
+        """Frame the drawn path again if it left the framed box (after a drawing, a drag)."""
+        with self._lock:
+            shown, geometry = self._shown, self._geometry
+            if shown is not None and geometry is not None \
+                    and self.cameras.needs_framing(shown[0].mission, geometry):
+                self.apply_camera()
     def reset_camera(self) -> None:
         self.cameras.forget_user_views()
         if self.play.camera_mode.value != CAMERAS[0]:

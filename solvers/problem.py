@@ -132,7 +132,7 @@ class Published:
     really differs by more than the tolerance, so the claim is checked too. `case` is the
     request that reproduces it (default: the mission's defaults); `methods` the methods that
     must reproduce it (default: every method of the mission); `slow` moves the check to the
-    slow test set. `checked=False` marks a number that only a mission's own test can check
+    slow test set: True for every method, or the methods named. `checked=False` marks a number that only a mission's own test can check
     (e.g. a spread over several solves); `note` says which.
     """
 
@@ -147,12 +147,16 @@ class Published:
     holds: bool = True
     case: Preset | None = None
     methods: tuple[str, ...] = ()
-    slow: bool = False
+    slow: bool | tuple[str, ...] = False
     checked: bool = True
 
     def __post_init__(self) -> None:
         if self.relation not in RELATIONS:
             raise ValueError(f"Published {self.name}: relation must be one of {RELATIONS}")
+
+    def slow_for(self, method: str) -> bool:
+        """Whether the check of `method` belongs to the slow test set."""
+        return self.slow is True or (isinstance(self.slow, tuple) and method in self.slow)
 
     def agrees(self, ours: float) -> bool:
         """Whether our value satisfies the stated relation within the tolerance."""

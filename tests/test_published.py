@@ -22,7 +22,7 @@ def _cases() -> list:
                 continue
             methods = pub.methods or tuple(m.key for m in mission.methods)
             for method in methods:
-                marks = [pytest.mark.slow] if pub.slow else []
+                marks = [pytest.mark.slow] if pub.slow_for(method) else []
                 cases.append(pytest.param(mission.key, pub, method, marks=marks,
                                           id=f"{mission.key}-{pub.name}-{pub.value:g}-{method}"))
     return cases

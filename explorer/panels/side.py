@@ -11,7 +11,8 @@ import viser
 
 from solvers.presentation import GridMap, PlotSeries
 
-from ..plots import figure_aspect, make_figure, map_figure
+from ..page_figures import PageFigure
+from ..plots import figure_aspect, figure_tree, map_figure
 
 PLOT_PANEL = (620, 300)  # px: plots float in the canvas's bottom-right corner
 PANEL_GAP = 10  # px from the canvas edges
@@ -32,15 +33,17 @@ class SidePanel:
                                          hint="This solution has more plots than fit: "
                                               "choose which to show.")
             self.page.on_update(lambda _: on_page())
-            self.plot = gui.add_plotly(make_figure([]), aspect=PLOT_ASPECT)
+            self.plot = gui.add_plotly(go.Figure(), aspect=PLOT_ASPECT)
         with self.panel.add_tab("Map", viser.Icon.MAP):
             self.map_note = gui.add_markdown("This mission has no map.")
             self.map_plot = gui.add_plotly(go.Figure(), aspect=PLOT_ASPECT, visible=False)
         with self.panel.add_tab("About", viser.Icon.INFO_CIRCLE):
             self.about = gui.add_html("")
         self.panel.float(x=-PANEL_GAP, y=-PANEL_GAP, width=PLOT_PANEL[0], height=PLOT_PANEL[1])
-        self.figure = make_figure([])
-        self.n_series = 0
+        self.figure = PageFigure(figure_tree([]), 0)
+        self.marker_t: float | None = None
+        self.dark = True
+        self.show_figure(self.figure)
         self._map_key: tuple | None = None
 
     def page_of(self, series: Sequence[PlotSeries], extra: Sequence[PlotSeries] = ()
@@ -59,14 +62,20 @@ class SidePanel:
         self.page.visible = True
         return pages[names.index(self.page.value)] if self.page.value in names else pages[0]
 
-    def show_figure(self, figure: go.Figure, n_series: int) -> None:
-        self.figure, self.n_series = figure, n_series
-        self.plot.figure = figure
-        self.plot.aspect = figure_aspect(max(n_series, 1), PLOT_ASPECT)
+    def show_figure(self, figure: PageFigure, t: float | None = None, dark: bool = True,
+                    subplots: int | None = None) -> None:
+        """Show `figure` with the time marker at `t`; its height follows its `subplots`
+        (default: those that carry the marker)."""
+        self.figure = figure
+        self.move_marker(t, dark)
+        self.plot.aspect = figure_aspect(max(subplots or figure.n_series, 1), PLOT_ASPECT)
 
-    def resend(self) -> None:
-        """Send the current figure again (its time marker moved)."""
-        self.plot.figure = self.figure
+    def move_marker(self, t: float | None, dark: bool = True) -> None:
+        """Send the figure again with its time marker at `t`."""
+        self.marker_t, self.dark = t, dark
+        # viser's own setter encodes a go.Figure (6 ms); the JSON is written once here and
+        # set as the handle's synced property (viser 1.x: `_plotly_json_str`).
+        self.plot._plotly_json_str = self.figure.text(t, dark)
 
     def show_map(self, grid_map: GridMap | None, dark: bool) -> None:
         """The first map of the presentation, re-sent only when it changed."""

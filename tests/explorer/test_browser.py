@@ -198,7 +198,8 @@ def test_animation_moves_the_vehicle(tab):
     assert after != before, "the picture did not change while the vehicle moved"
     # The play tab reads out the state at the animation time, the plots carry the marker.
     assert "altitude above Moon" in page.inner_text("body")
-    assert view.side.figure.layout.shapes[0].x0 == pytest.approx(view.play.t)
+    assert view.side.marker_t == pytest.approx(view.play.t)
+    assert f'"x0": {view.side.marker_t!r}' in view.side.plot._plotly_json_str  # as sent
     view.play.camera_mode.value = "follow vehicle"
     page.keyboard.press("r")  # the reset-camera hotkey
     until(lambda: view.play.camera_mode.value == "overview", "r to reset the camera", 20.0)

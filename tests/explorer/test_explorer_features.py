@@ -17,9 +17,10 @@ import pytest
 
 from explorer.geometry import BURN, build_geometry, colormap, ghost_geometry
 from explorer.legend import legend_html
+from explorer.page_figures import PageFigure
 from explorer.panels.compare import comparison_rows
 from explorer.player import Track, quaternion_from_axes
-from explorer.plots import make_figure, set_time_marker
+from explorer.plots import figure_tree
 from explorer.readouts import readouts
 from explorer.session import COLD_FACTOR, Session
 from solvers.presentation import Body, ColorBy, Marker, Presentation
@@ -167,11 +168,13 @@ def test_comparison_rows_and_time_marker():
         assert value.endswith(" s") and float(value[:-2]) == pytest.approx(TF_PAPER, rel=1e-4)
     assert "check: touchdown altitude miss" in table and "solve time" in table
     plots_a, plots_b = mission.present(a).plots, mission.present(b).plots
-    fig = make_figure(plots_a, overlays=[("b", (1, 2, 3), plots_b)])
-    set_time_marker(fig, len(plots_a), 100.0)
-    assert len(fig.layout.shapes) == len(plots_a)
-    assert [s.xref for s in fig.layout.shapes][:2] == ["x", "x2"]
-    assert set_time_marker(fig, len(plots_a), None).layout.shapes == ()
+    figure = PageFigure(figure_tree(plots_a, overlays=[("b", (1, 2, 3), plots_b)]),
+                        len(plots_a))
+    shapes = json.loads(figure.text(100.0))["layout"]["shapes"]
+    assert len(shapes) == len(plots_a) and [s["xref"] for s in shapes][:2] == ["x", "x2"]
+    assert all(s["x0"] == 100.0 for s in shapes)
+    assert json.loads(figure.text(None))["layout"]["shapes"] == []
+    assert "shapes" not in figure.tree["layout"]  # the shared tree itself is never changed
 
 
 def test_session_passes_its_time_limit_and_runs_comparisons():

@@ -229,3 +229,46 @@ def test_bad_classroom_options_are_refused(argv, capsys):
         main(argv)
     assert exit_info.value.code == 2
     assert "error:" in capsys.readouterr().err
+
+
+def test_followers_share_the_teachers_plot_figure():
+    """Thirty followers once built and encoded thirty figures of each teacher answer (1.2 s
+    for the last one); now the answer's figure is built once and every follower sends the
+    same JSON."""
+    import viser
+
+    from explorer.capture import free_port
+    from explorer.page_figures import SHARED
+    from explorer.room_view import RoomView
+    from explorer.view import View
+    from solvers import get_mission
+
+    mission = get_mission("lunar-landing")
+    server = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)
+    views = []
+    try:
+        teacher = View(server.gui, server.scene, server.atomic, [mission], mission,
+                       scene_root="/teacher")
+        views.append(teacher)
+        assert teacher.session.wait_idle(60.0)
+        room = Room(teacher.session)
+        for i in range(3):
+            views.append(RoomView(server.gui, server.scene, server.atomic, [mission], mission,
+                                  None, None, 5.0, None, room=room, member_id=i, room_url="",
+                                  claim=lambda v, k: None, scene_root=f"/student{i}"))
+        followers = views[1:]
+        until(lambda: all(v.drawn for v in followers), "the followers' first picture", 60.0)
+        built = SHARED.built
+        teacher.session.set_value("thrust", 2500.0)
+        assert teacher.session.wait_idle(60.0)
+        answer = teacher.session.latest
+        until(lambda: all(v._shown and v._shown[0] is answer for v in followers),
+              "the teacher's answer on every follower", 60.0)
+        assert SHARED.built == built + 1  # one figure for the room
+        sent = {v.side.plot._plotly_json_str for v in views}
+        assert len(sent) == 1 and '"x": [' in sent.pop()
+        room.close()
+    finally:
+        for view in views:
+            view.close()
+        server.stop()
