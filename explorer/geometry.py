@@ -121,13 +121,20 @@ def polyline_segments(points: np.ndarray) -> np.ndarray:
     return np.stack([points[:-1], points[1:]], axis=1)
 
 
+# Icosphere details used: rounded up to one of these, so that a slider move that changes
+# the path's size a little does not re-send the body (a new mesh in the page each time).
+DETAIL_STEPS = (3, 5, 8, 12, 16, 20, 25, 32, 40)
+
+
 def sphere_subdivisions(radius: float, tolerance: float) -> int:
     """three.js icosahedron detail whose flat faces sag at most `tolerance` below the sphere
-    (edge angle ~1.107 rad / (detail + 1); face-centre sag ~ R (1 - cos(edge / sqrt 3)))."""
+    (edge angle ~1.107 rad / (detail + 1); face-centre sag ~ R (1 - cos(edge / sqrt 3))),
+    rounded up to a `DETAIL_STEPS` step."""
     if tolerance >= radius:
-        return 3
+        return DETAIL_STEPS[0]
     edge = math.sqrt(3.0) * math.acos(1.0 - tolerance / radius)
-    return int(np.clip(math.ceil(1.107 / edge) - 1, 3, 40))
+    needed = math.ceil(1.107 / edge) - 1
+    return next((d for d in DETAIL_STEPS if d >= needed), DETAIL_STEPS[-1])
 
 
 def _path_colors(pres: Presentation, t: np.ndarray, arcs: list, n: int

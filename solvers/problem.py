@@ -132,8 +132,9 @@ class Published:
     really differs by more than the tolerance, so the claim is checked too. `case` is the
     request that reproduces it (default: the mission's defaults); `methods` the methods that
     must reproduce it (default: every method of the mission); `slow` moves the check to the
-    slow test set: True for every method, or the methods named. `checked=False` marks a number that only a mission's own test can check
-    (e.g. a spread over several solves); `note` says which.
+    slow test set: True for every method, or the methods named. `checked=False` marks a
+    number that only a mission's own test can check (e.g. a spread over several solves);
+    `note` says which.
     """
 
     name: str

@@ -240,14 +240,18 @@ def test_live_view_stays_bounded_over_many_resolves():
                     "hermite-simpson", 20)
         assert view.session.wait_idle(60.0) and view.session.latest.ok
         view.play.ghosts.value = True
-        counts, names = [], []
+        counts, names, moons = [], [], []
         for k in range(20):
             view.session.set_value("thrust", 2000.0 + 50.0 * (k + 1))
             assert view.session.wait_idle(60.0)
             counts.append(view.scene.node_count)
             names.append(len(server.scene._handle_from_node_name))
+            moons.append(id(view.scene._context[0]))
         assert view.session.latest.ok and view.drawn >= 20
         assert len(set(counts)) == 1 and len(set(names)) == 1, (counts, names)
+        # The Moon's mesh is sent again only when its level of detail steps (it was re-sent
+        # on every move: its detail followed the path's size one step at a time).
+        assert len(set(moons)) <= 3, f"the Moon was sent {len(set(moons))} times in 20 moves"
         # Play a little: the vehicle moves and the slider, read-outs and marker follow.
         p0 = view.scene.vehicle_position
         view.play.toggle()
