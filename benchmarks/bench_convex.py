@@ -19,8 +19,9 @@ import argparse
 import time
 
 import solvers
+from solvers.context import SolveContext
 from solvers.methods import SCVX
-from solvers.mission import Mission, SolveContext
+from solvers.mission import Mission
 from solvers.problem import Method
 from solvers.solution import Solution
 

@@ -7,7 +7,7 @@ second cold start on the built NLP; "warm" is the best of `repeats` re-solves af
 change of the mission's live parameter (alternating), warm-started from the previous optimum
 — what a slider move costs in the explorer. The re-propagation check (solve_ivp, rtol 1e-10)
 is timed separately because the explorer defers it. "err" compares each quantity that has a
-published value (SPEC.md / the papers) with it, in percent.
+published value (the papers, as each mission's published records cite them) with it, in percent.
 """
 
 from __future__ import annotations

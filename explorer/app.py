@@ -159,13 +159,6 @@ class ExplorerApp:
         for view in self._all_views():
             view.refuse(f"mission file {Path(path).name} not loaded", message)
 
-    def wait_for_view(self, timeout: float) -> View:
-        """The first connected tab's view (waits for a browser to connect)."""
-        with self._lock:
-            if not self._lock.wait_for(lambda: self.views, timeout):
-                raise TimeoutError(f"no browser connected within {timeout:g} s")
-            return next(iter(self.views.values()))
-
     def stop(self) -> None:
         with self._lock:
             views = set(self.views.values())

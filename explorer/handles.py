@@ -60,15 +60,23 @@ class _Drawn:
 
 def describe(handle: Handle, values: Mapping[str, float], params: Mapping[str, Param],
              held: tuple[str, ...] = ()) -> str:
-    """The label beside a handle: its bound values in display units; a value held at the
-    end of its range says so."""
-    parts = []
-    for key in handle.params:
-        p = params[key]
-        unit = display_unit(p)
-        text = f"{p.label} {to_display(p, values[key]):.4g}{' ' + unit if unit else ''}"
-        parts.append(f"{text} (end of range)" if key in held else text)
-    return f"{handle.label}: " + ", ".join(parts)
+    """The short label beside a handle: its name and bound values in display units
+    ("start point (2000, 0, 1500) m"; the parameters' names are on the sliders, and a long
+    label would cover the path); a value held at the end of its range says so."""
+    shown = [(to_display(params[k], values[k]), display_unit(params[k])) for k in handle.params]
+    units = {unit for _, unit in shown}
+    if len(units) == 1:
+        unit = units.pop()
+        numbers = ", ".join(f"{v:.4g}" for v, _ in shown)
+        text = f"{numbers}{' ' + unit if unit else ''}"
+        text = f"{handle.label} {text}" if len(shown) == 1 else \
+            f"{handle.label} ({numbers}){' ' + unit if unit else ''}"
+    else:
+        text = f"{handle.label} (" + ", ".join(
+            f"{v:.4g}{' ' + u if u else ''}" for v, u in shown) + ")"
+    if held:
+        text += " · end of range: " + ", ".join(params[k].label for k in held)
+    return text
 
 
 class Handles:

@@ -16,7 +16,8 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
-from .mission import DEFAULT_TIME_LIMIT, Mission
+from .context import DEFAULT_TIME_LIMIT
+from .mission import Mission
 from .registry import expand_mission_paths, get_mission, list_missions, load_mission_files
 from .service import SolveService, SolveSpec
 from .solution import Solution

@@ -14,15 +14,21 @@ from __future__ import annotations
 import re
 import sys
 import threading
-import time
-from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
+from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from . import cost_error
+from .context import (
+    DEFAULT_TIME_LIMIT,
+    Cancelled,
+    Infeasible,
+    ProgressCallback,
+    SolveContext,
+    TimeLimit,
+)
 from .handles import Handle, Sphere
 from .optimality import too_few_nodes
 from .problem import Consistency, Method, Param, Preset, Published, validate_values
@@ -31,76 +37,6 @@ from .solution import Label, Quantity, Solution
 if TYPE_CHECKING:
     from .ocp import OCP, OCPResult
     from .presentation import Presentation
-
-ProgressCallback = Callable[[int, str], None]
-# s: the time limit of a solve when the caller names none (`Mission.solve`, the CLI); a
-# limit of None or 0 means none.
-DEFAULT_TIME_LIMIT = 120.0
-
-
-class Infeasible(Exception):
-    """The request has no solution (a named physical or model bound); the message says why."""
-
-
-class Cancelled(Exception):
-    """A newer request or the user stopped the solve."""
-
-
-class TimeLimit(Exception):
-    """The solve ran past its time limit."""
-
-
-@dataclass
-class SolveContext:
-    """What a running solve may consult: progress reporting, cancellation and a deadline."""
-
-    progress: ProgressCallback | None = None
-    cancel: threading.Event | None = None
-    time_limit: float | None = None
-    started: float = field(default_factory=time.perf_counter)
-    iterations: int = 0
-
-    def report(self, iteration: int, message: str = "") -> None:
-        """Record progress; raise `Cancelled`/`TimeLimit` when the solve must stop."""
-        self.iterations = iteration
-        if self.progress is not None:
-            self.progress(iteration, message)
-        self.checkpoint()
-
-    def checkpoint(self) -> None:
-        if self.cancel is not None and self.cancel.is_set():
-            raise Cancelled("cancelled by a newer request")
-        if self.time_limit is not None and self.elapsed() > self.time_limit:
-            raise TimeLimit(f"stopped at the time limit of {self.time_limit:g} s")
-
-    def should_stop(self) -> bool:
-        try:
-            self.checkpoint()
-        except (Cancelled, TimeLimit):
-            return True
-        return False
-
-    def remaining(self) -> float | None:
-        return None if self.time_limit is None else max(self.time_limit - self.elapsed(), 1e-3)
-
-    def bound_check(self, sol: Solution) -> None:
-        """Give the solution's deferred check what is left of the time limit: run whenever
-        it is, it stops (`verify.CheckTimeLimit`, reported in its message) once that budget
-        is spent, so solve plus check stay within the limit."""
-        budget, checker = self.remaining(), sol.checker
-        if budget is None or checker is None:
-            return
-        from .verify import time_budget
-
-        def budgeted() -> dict[str, float]:
-            with time_budget(budget):
-                return checker()
-
-        sol.checker = budgeted
-
-    def elapsed(self) -> float:
-        return time.perf_counter() - self.started
-
 
 class Mission:
     """A mission is data plus `solve` and `present`.

@@ -21,7 +21,8 @@ from .problem import Param
 from .solution import Solution
 
 if TYPE_CHECKING:
-    from .mission import Mission, ProgressCallback
+    from .context import ProgressCallback
+    from .mission import Mission
 
 SAME_OPTIMUM = 1e-5
 PRIMES = (2, 3, 5, 7, 11, 13)

@@ -30,7 +30,8 @@ from typing import TYPE_CHECKING
 from .solution import Solution
 
 if TYPE_CHECKING:
-    from .mission import Mission, ProgressCallback
+    from .context import ProgressCallback
+    from .mission import Mission
 
 # Convergence order of the terminal miss in the node count, per transcription (the paper's
 # own methods: None). LGL converges spectrally; 4 is a cautious stand-in.

@@ -2,7 +2,8 @@
 (`Mission.published`): our solution satisfies the stated relation within the stated
 tolerance, or, for a number recorded as not holding, really differs from it; and the
 solution's re-propagated miss meets the mission's accuracy targets (`Mission.tolerances`).
-The numbers come from the papers as restated in SPEC.md; each record names its source."""
+The numbers come from the papers (each record names its source: paper, section, table or
+figure)."""
 
 from __future__ import annotations
 

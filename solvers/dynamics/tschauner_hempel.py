@@ -231,11 +231,6 @@ def ya_fundamental_inverse(f: np.ndarray, e: float) -> np.ndarray:
     return np.stack([np.stack(r, axis=-1) for r in rows], axis=-2) / (1.0 - e**2)
 
 
-def secular_parameter(f: np.ndarray, f0: float, e: float) -> np.ndarray:
-    """J = k^2 (t - t0) from true anomalies alone: (M(f) - M(f0)) / (1 - e^2)^(3/2)."""
-    return (mean_from_true(f, e) - mean_from_true(f0, e)) / (1.0 - e * e) ** 1.5
-
-
 def ya_stm(f: np.ndarray | float, f0: np.ndarray | float, e: float) -> np.ndarray:
     """Phi(f, f0) (n, 6, 6) of the TH scaled state: Yamanaka–Ankersen in-plane, harmonic
     out-of-plane. `f` and `f0` broadcast against each other."""

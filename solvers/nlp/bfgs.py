@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..mission import SolveContext
+from ..context import SolveContext
 
 FunAndGrad = Callable[[np.ndarray], tuple[float, np.ndarray]]
 

@@ -50,8 +50,3 @@ def clear_built() -> None:
     with BUILD_LOCK:
         for cache in _CACHES:
             cache.cache_clear()
-
-
-def built_count() -> int:
-    """How many builds the caches hold now."""
-    return sum(cache.cache_info().currsize for cache in _CACHES)

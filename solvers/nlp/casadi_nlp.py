@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import casadi as ca
 import numpy as np
 
-from ..mission import Cancelled, SolveContext, TimeLimit
+from ..context import Cancelled, SolveContext, TimeLimit
 from .backends import backend as registered_backend
 from .cache import BUILD_LOCK, built_once
 from .exterior_penalty import penalty_functions, solve_exterior_penalty

@@ -12,7 +12,7 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
-from ..mission import SolveContext
+from ..context import SolveContext
 from .bfgs import minimize_bfgs
 
 PENALTY_SEQUENCE = (1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8)

@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..mission import SolveContext
+from ..context import SolveContext
 from .bfgs import minimize_bfgs
 
 FAndGrad = Callable[[np.ndarray], tuple[float, np.ndarray]]

@@ -409,14 +409,6 @@ class SolveService:
                 if w.alive:
                     w.send(("reload", self.mission_files))
 
-    def restart_workers(self, mission_files: Sequence[str] | None = None) -> None:
-        """Replace every worker (e.g. a mission file changed); running solves fail."""
-        if mission_files is not None:
-            self.mission_files = list(mission_files)
-        with self._lock:
-            for w in list(self._workers):
-                self._kill(w, "the workers were restarted")
-
     def close(self) -> None:
         """Stop every worker (one running a solve or owing a check is killed at once)."""
         with self._lock:

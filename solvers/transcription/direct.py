@@ -13,7 +13,7 @@ from abc import ABC, abstractmethod
 import casadi as ca
 import numpy as np
 
-from ..mission import SolveContext
+from ..context import SolveContext
 from ..nlp.casadi_nlp import NLP, status_of
 from ..ocp import OCP, BoundaryPoint, OCPResult
 from ..optimality import active_state_bounds

@@ -38,7 +38,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import ArpackNoConvergence, eigsh
 
-from ..mission import SolveContext
+from ..context import SolveContext
 from ..nlp.casadi_nlp import NLPResult
 from ..ocp import OCP
 from .hermite_simpson import HermiteSimpson

@@ -9,7 +9,8 @@ do the rest.
                           minimum_time=True)
 
 A mission file defines `MISSION` like this (`python -m solvers solve my-problem
---mission-file my_problem.py`); docs/own_problem.md describes every field.
+--mission-file my_problem.py`); the README's "Bring your own problem"
+describes every field.
 """
 
 from ..methods import HERMITE_SIMPSON, LGL, MULTIPLE_SHOOTING

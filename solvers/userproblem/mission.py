@@ -14,9 +14,10 @@ from typing import Any
 
 import numpy as np
 
+from ..context import Infeasible, SolveContext
 from ..handles import Handle, Sphere, check_bindings
 from ..methods import HERMITE_SIMPSON, LGL, MULTIPLE_SHOOTING
-from ..mission import Infeasible, Mission, SolveContext
+from ..mission import Mission
 from ..ocp import OCP, OCPResult
 from ..presentation import Presentation
 from ..problem import Consistency, Method, Param, Preset, Published
@@ -53,7 +54,8 @@ def _coords(v: np.ndarray) -> str:
 
 
 class UserMission(Mission):
-    """A mission declared in a few lines (see docs/own_problem.md for every field).
+    """A mission declared in a few lines (the README's "Bring your own problem" describes
+    every field).
 
     Raises `DeclarationError` (one line: "file:line: what is wrong") when the declaration
     cannot be solved: the dynamics are built once symbolically here, so a wrong size, an

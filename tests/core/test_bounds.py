@@ -15,7 +15,8 @@ import pytest
 import solvers
 from solvers import __main__ as cli
 from solvers import sweep
-from solvers.mission import DEFAULT_TIME_LIMIT, Mission, SolveContext
+from solvers.context import DEFAULT_TIME_LIMIT, SolveContext
+from solvers.mission import Mission
 from solvers.missions.asteroid_rendezvous import launch_map
 from solvers.solution import Quantity, Solution
 from solvers.verify import CheckTimeLimit, integrate_piecewise, time_budget

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import solvers
-from solvers.mission import SolveContext
+from solvers.context import SolveContext
 from solvers.ocp import OCP, Bounds, Guess
 from solvers.problem import Param, validate_values
 from solvers.solution import Quantity, Solution
@@ -139,7 +139,7 @@ def test_min_time_double_integrator_and_warm_restart(cls):
 def test_cancelled_context_stops_the_nlp():
     import threading
 
-    from solvers.mission import Cancelled
+    from solvers.context import Cancelled
 
     event = threading.Event()
     event.set()

@@ -14,7 +14,7 @@ import pytest
 from scipy.integrate import quad
 
 import solvers
-from solvers.mission import Infeasible
+from solvers.context import Infeasible
 from solvers.missions.apollo_reentry import model as apollo_model
 from solvers.missions.elliptic_transfer.problem import MIN_PERIGEE_ALTITUDE, R_EARTH
 from solvers.missions.hovercraft import problem as hover_problem

@@ -16,7 +16,8 @@ from explorer.panels import value_input as vi
 from explorer.panels.status import result_markdown
 from explorer.plots import figure_aspect, grid, make_figure
 from explorer.session import Session
-from solvers.mission import Mission, SolveContext
+from solvers.context import SolveContext
+from solvers.mission import Mission
 from solvers.presentation import Body, Curve, Marker, PlotSeries, Presentation
 from solvers.problem import Method, Param
 from solvers.solution import Label, Quantity, Solution

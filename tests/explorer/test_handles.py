@@ -133,3 +133,17 @@ def test_the_keep_out_sphere_drags_and_the_path_bends_around_it(live):
     assert (distance < 800.5).sum() >= 3  # and sliding along it: the constraint is active
     origin = np.hypot(sol.node_x[:, 0], sol.node_x[:, 1])
     assert origin[5:-5].min() > 820.0  # pushed out, past the old zone's surface
+
+
+def test_a_handles_label_is_short_values_in_display_units():
+    """The label beside a handle is its name and values (a long one covered the path)."""
+    from explorer.handles import describe
+
+    mission = get_mission("powered-descent")
+    params = {p.key: p for p in mission.all_params(mission.methods[0].key)}
+    handle = mission.handles[0]
+    assert describe(handle, mission.defaults(), params) == "start point (2000, 0, 1500) m"
+    lunar = get_mission("lunar-landing")
+    lunar_params = {p.key: p for p in lunar.all_params(lunar.methods[0].key)}
+    text = describe(lunar.handles[0], lunar.defaults(), lunar_params, held=("altitude0",))
+    assert text.startswith("ignition altitude 15 km") and "end of range" in text

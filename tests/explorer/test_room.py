@@ -16,7 +16,8 @@ from explorer.room import Leaderboard, Room
 from explorer.room_session import Challenge, RoomSession
 from explorer.runners import LocalRunner
 from explorer.session import Session
-from solvers.mission import Mission, SolveContext
+from solvers.context import SolveContext
+from solvers.mission import Mission
 from solvers.problem import Method, Param
 from solvers.solution import Quantity, Solution
 

@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 
 import solvers
+from solvers.context import SolveContext
 from solvers.methods import SCVX
-from solvers.mission import SolveContext
 from solvers.missions.powered_descent.lossless import descent_socp
 from solvers.missions.powered_descent.model import P_RHO1, parameter_vector
 

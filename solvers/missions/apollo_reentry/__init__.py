@@ -12,8 +12,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...context import SolveContext
 from ...methods import HERMITE_SIMPSON, LGL, MULTIPLE_SHOOTING
-from ...mission import Mission, SolveContext
+from ...mission import Mission
 from ...ocp import OCP, OCPResult
 from ...optimality import PMP_COSTATES, PMP_TRAJECTORY, record_costate_error
 from ...problem import Method

@@ -9,8 +9,8 @@ from functools import cache
 import casadi as ca
 import numpy as np
 
+from ...context import Infeasible
 from ...handles import Axis, Handle
-from ...mission import Infeasible
 from ...nlp.cache import built_once
 from ...ocp import OCP, Bounds, Guess, OCPResult
 from ...problem import Consistency, Param, Preset, Published

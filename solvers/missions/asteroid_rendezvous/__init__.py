@@ -12,7 +12,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...mission import Mission, SolveContext
+from ...context import SolveContext
+from ...mission import Mission
 from ...ocp import OCP
 from ...problem import Method
 from ...solution import Solution

@@ -28,6 +28,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ...context import Infeasible, SolveContext
 from ...dynamics.ephemeris import (
     AU,
     DAY,
@@ -41,7 +42,6 @@ from ...dynamics.ephemeris import (
 )
 from ...dynamics.kepler import propagate
 from ...dynamics.lambert import lambert
-from ...mission import Infeasible, SolveContext
 from ...nlp.particle_swarm import Schedule, particle_swarm
 from ...solution import WarmStart
 from .model import G0, to_tu

@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ... import interval_error
+from ...context import SolveContext
 from ...dynamics.ephemeris import (
     AU,
     DAY,
@@ -29,7 +30,6 @@ from ...dynamics.ephemeris import (
     iso_from_mjd,
 )
 from ...methods import HERMITE_SIMPSON
-from ...mission import SolveContext
 from ...ocp import OCPResult
 from ...optimality import too_few_nodes
 from ...problem import Method, Param

@@ -11,8 +11,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...context import SolveContext
 from ...methods import HERMITE_SIMPSON, MULTIPLE_SHOOTING
-from ...mission import Mission, SolveContext
+from ...mission import Mission
 from ...ocp import OCP, OCPResult
 from ...problem import Method
 from ...solution import Quantity, Series, Solution

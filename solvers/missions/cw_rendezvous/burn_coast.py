@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-from ...mission import SolveContext
+from ...context import SolveContext
 from ...nlp.casadi_nlp import NLP, status_of
 from ...transcription.hermite_simpson import hs_defects
 

@@ -9,8 +9,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...context import SolveContext
 from ...dynamics.clohessy_wiltshire import STATE_UNITS, STATES, cw_stm_numeric
-from ...mission import SolveContext
 from ...nlp.cache import built_once
 from ...problem import Method, Param
 from ...solution import Iterate, Quantity, Solution, WarmStart

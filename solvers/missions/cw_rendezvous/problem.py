@@ -10,6 +10,7 @@ from functools import cache
 import casadi as ca
 import numpy as np
 
+from ...context import Infeasible
 from ...dynamics.clohessy_wiltshire import (
     MU_EARTH,
     STATE_UNITS,
@@ -19,7 +20,6 @@ from ...dynamics.clohessy_wiltshire import (
     nonlinear_relative_miss,
 )
 from ...handles import Handle
-from ...mission import Infeasible
 from ...ocp import OCP, Bounds, Guess
 from ...optimality import PMP_COSTATES, PMP_TRAJECTORY, record_costate_error
 from ...problem import Consistency, Param, Preset, Published

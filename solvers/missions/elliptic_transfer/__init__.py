@@ -9,7 +9,8 @@ collocation handed to IPOPT as a general NLP (`lgl-nlp`), which must agree with 
 
 from __future__ import annotations
 
-from ...mission import Mission, SolveContext
+from ...context import SolveContext
+from ...mission import Mission
 from ...problem import Method
 from ...solution import Solution
 from . import problem, tables, view

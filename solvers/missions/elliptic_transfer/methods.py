@@ -7,9 +7,9 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
+from ...context import SolveContext
 from ...dynamics.tschauner_hempel import th_rhs, true_anomaly_clock
 from ...dynamics.two_body import propagate_relative
-from ...mission import SolveContext
 from ...nlp.cache import built_once
 from ...nlp.casadi_nlp import NLP, status_of
 from ...problem import Method, Param

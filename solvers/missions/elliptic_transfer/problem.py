@@ -6,8 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...context import Infeasible
 from ...dynamics.tschauner_hempel import R_EARTH
-from ...mission import Infeasible
 from ...problem import Consistency, Param, Preset, Published
 from ...solution import Label, Quantity
 from .laws import LawResult

@@ -9,8 +9,9 @@ semi-analytically (`model.py`) as an independent reference stored with every sol
 
 from __future__ import annotations
 
+from ...context import SolveContext
 from ...methods import HERMITE_SIMPSON, LGL, MULTIPLE_SHOOTING
-from ...mission import Mission, SolveContext
+from ...mission import Mission
 from ...problem import Method
 from ...solution import Solution
 from . import problem, view

@@ -8,8 +8,8 @@ from functools import cache
 import casadi as ca
 import numpy as np
 
+from ...context import Infeasible
 from ...handles import Handle
-from ...mission import Infeasible
 from ...ocp import OCP, Bounds, Guess
 from ...optimality import PMP_TRAJECTORY
 from ...problem import Consistency, Param, Preset, Published

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from ... import interval_error
-from ...mission import SolveContext
+from ...context import SolveContext
 from ...ocp import OCPResult
 from ...optimality import PMP_COSTATES, record_costate_error, too_few_nodes
 from ...problem import Method

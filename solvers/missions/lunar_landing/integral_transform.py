@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 import casadi as ca
 import numpy as np
 
-from ...mission import SolveContext
+from ...context import SolveContext
 from ...nlp.cache import built_once
 from ...nlp.multiplier_method import solve_multiplier_method
 from .model import MU_MOON, R_MOON

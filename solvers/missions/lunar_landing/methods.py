@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...mission import SolveContext
+from ...context import SolveContext
 from ...problem import Method, Param
 from ...solution import Iterate, Quantity, Solution, WarmStart
 from ...verify import repropagate

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import cvxpy as cp
 import numpy as np
 
-from ...mission import Infeasible, SolveContext
+from ...context import Infeasible, SolveContext
 from ...nlp.cache import built_once
 from .model import (
     P_C,

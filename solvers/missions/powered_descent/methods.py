@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...mission import Infeasible, SolveContext
+from ...context import Infeasible, SolveContext
 from ...ocp import OCPResult
 from ...problem import Method, Param
 from ...solution import Quantity, Solution, WarmStart

@@ -16,6 +16,9 @@ from .model import P_RHO1, P_RHO2, P_TAN_GS, parameter_vector
 MARS: tuple[int, int, int] = (190, 110, 70)  # the surface patch (a body colour of its own)
 
 
+TOGETHER = 0.02  # of the drawing's extent: closer than this, target and touchdown share a label
+
+
 def present(sol: Solution, view: Mapping[str, float]) -> Presentation:
     """The descent in the target-fixed frame (this mission has no view options)."""
     values = sol.values
@@ -30,14 +33,23 @@ def present(sol: Solution, view: Mapping[str, float]) -> Presentation:
         thrust=sol.node_u / t_max, display_unit="km", display_scale=1e-3,
         curves=[*surface(extent), *cone(p[P_TAN_GS], values["altitude0"] * 1.1, extent)],
         markers=[Marker("start", tuple(float(c) for c in sol.x[0, :3]), palette.START),
-                 Marker("target", (0.0, 0.0, 0.0), palette.TARGET),
-                 Marker(f"touchdown ({np.hypot(*touchdown[:2]):.1f} m from the target)",
-                        touchdown, palette.LABEL)],
+                 *landing_markers(touchdown, extent)],
         color_by=ColorBy("thrust", "N", thrust),
         plots=plots(sol, p),
         iterates=[(it.iteration, it.x[:, :3].copy()) for it in sol.history],
         vehicle="lunar-landing",
     )
+
+
+def landing_markers(touchdown: tuple[float, float, float], extent: float) -> list[Marker]:
+    """The target and the touchdown: one label when they meet (two would overlap), two
+    when the target is out of reach (minimum landing error)."""
+    miss = float(np.hypot(*touchdown[:2]))
+    if miss <= TOGETHER * extent:
+        return [Marker(f"target: touched down {miss:.1f} m from it", (0.0, 0.0, 0.0),
+                       palette.TARGET)]
+    return [Marker("target", (0.0, 0.0, 0.0), palette.TARGET),
+            Marker(f"touchdown ({miss:.1f} m from the target)", touchdown, palette.LABEL)]
 
 
 def surface(extent: float, lines: int = 9) -> list[Curve]:
