@@ -109,6 +109,23 @@ def measure(page, view, key: str, label: str, repeats: int, frames: Frames) -> l
     return rows
 
 
+def show_case(page, view, key: str, method: str):
+    """Put the tab on `key` solved by `method` and wait until its picture has settled; the
+    mission."""
+    from explorer.capture import settle
+    from solvers import get_mission
+
+    mission = get_mission(key)
+    if view.session.mission is not mission:
+        view.session.select_mission(mission)
+        view.session.wait_idle(300.0)
+    if view.session.method != method:
+        view.session.select_method(method)
+        view.session.wait_idle(300.0)
+    settle(page, 60.0)
+    return mission
+
+
 FLOOR_OBSERVER = """() => {
   window.__floor = [];
   new MutationObserver(() => {
@@ -172,9 +189,8 @@ def main(argv: list[str] | None = None) -> None:
     cases = [tuple(c.split(":")) for c in args.case] if args.case else CASES
 
     from explorer.app import ExplorerApp
-    from explorer.capture import chromium, close_webgl_toast, free_port, open_tab, settle
+    from explorer.capture import chromium, close_webgl_toast, free_port, open_tab
     from explorer.panels.value_input import label_of
-    from solvers import get_mission
 
     app = ExplorerApp("127.0.0.1", free_port())
     app.service.wait_prebuilt()  # measure the classroom after start-up, not during it
@@ -189,14 +205,7 @@ def main(argv: list[str] | None = None) -> None:
             close_webgl_toast(page)
             page.evaluate(INSTRUMENT)
             for key, method in cases:
-                mission = get_mission(key)
-                if view.session.mission is not mission:
-                    view.session.select_mission(mission)
-                    view.session.wait_idle(300.0)
-                if view.session.method != method:
-                    view.session.select_method(method)
-                    view.session.wait_idle(300.0)
-                settle(page, 60.0)
+                mission = show_case(page, view, key, method)
                 param = next(p for p in mission.params if p.key == LIVE_PARAMETER[key])
                 rows = measure(page, view, key, label_of(param), args.repeats, frames)
                 lat = statistics.median(r[0] for r in rows)

@@ -16,7 +16,7 @@ from collections import defaultdict
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).parent))
-from bench_browser import INSTRUMENT  # noqa: E402
+from bench_browser import INSTRUMENT, show_case  # noqa: E402
 from bench_missions import LIVE_PARAMETER  # noqa: E402
 
 SAMPLING_US = 200  # µs between profiler samples
@@ -79,10 +79,9 @@ def main(argv: list[str] | None = None) -> None:
     key, method = args.case.split(":")
 
     from explorer.app import ExplorerApp
-    from explorer.capture import chromium, close_webgl_toast, free_port, open_tab, settle
+    from explorer.capture import chromium, close_webgl_toast, free_port, open_tab
     from explorer.panels.status import fmt
     from explorer.panels.value_input import label_of
-    from solvers import get_mission
 
     app = ExplorerApp("127.0.0.1", free_port())
     app.service.wait_prebuilt()
@@ -90,14 +89,7 @@ def main(argv: list[str] | None = None) -> None:
         with chromium(1280, 800) as context:
             page, view = open_tab(app, context)
             close_webgl_toast(page)
-            mission = get_mission(key)
-            if view.session.mission is not mission:
-                view.session.select_mission(mission)
-                view.session.wait_idle(300.0)
-            if view.session.method != method:
-                view.session.select_method(method)
-                view.session.wait_idle(300.0)
-            settle(page, 60.0)
+            mission = show_case(page, view, key, method)
             page.evaluate(INSTRUMENT)
             param = next(p for p in mission.params if p.key == LIVE_PARAMETER[key])
             slider_id = page.locator("label", has_text=label_of(param)).first.get_attribute("for")

@@ -13,8 +13,6 @@ evaluated.
 
 from __future__ import annotations
 
-import html
-import itertools
 import json
 from collections.abc import Callable
 from urllib.parse import parse_qsl, urlencode
@@ -24,6 +22,7 @@ import websockets.http11
 
 from solvers.mission import Mission
 
+from .page_scripts import hidden_box_html, run_once_html
 from .panels.value_input import echo
 from .session import Session
 
@@ -35,7 +34,6 @@ TOO_LONG = "too-long="  # what the page hands over instead of a longer query (+ 
 # chromium's own limit on an address (2 MB) the page loads instead, and says the link is
 # too long.
 websockets.http11.MAX_LINE_LENGTH = max(websockets.http11.MAX_LINE_LENGTH, 2 * 2**20)
-_ERROR_IMAGE = "data:,{nonce}"  # not an image: onerror runs at once, a new one each time
 
 
 def case_query(session: Session) -> str:
@@ -89,37 +87,20 @@ def parse_case(query: str, missions: dict[str, Mission]
             fields.get("backend"), values, view)
 
 
-_nonce = itertools.count()
-
-
-def _script(js: str) -> str:
-    src = _ERROR_IMAGE.format(nonce=next(_nonce))
-    return f'<img src="{src}" style="display:none" onerror="{html.escape(js)}">'
 
 
 def address_html(query: str) -> str:
     """HTML whose script puts `query` into the address bar (and shows nothing)."""
-    return _script(f"history.replaceState(null, '', '?' + {json.dumps(query)});")
+    return run_once_html(f"history.replaceState(null, '', '?' + {json.dumps(query)});")
 
 
+# Sends the opening address through the hidden box (a link that is too long is refused
+# with its length).
 READ_ADDRESS = """
-(function () {
-  const label = [...document.querySelectorAll('label')].find(
-      (l) => l.textContent.trim() === LABEL);
-  let row = label, input = null;
-  for (let i = 0; i < 5 && row && !input; i++) {
-    row = row.parentElement;
-    input = row && row.querySelector('input');
-  }
-  if (!input) return;
-  if (row.parentElement) row.parentElement.style.display = 'none';
   let query = window.location.search.slice(1);
   if (!query.includes('mission=')) return;
   if (query.length > MAX_LINK) query = TOO_LONG + query.length;
-  const setter = Object.getOwnPropertyDescriptor(HTMLInputElement.prototype, 'value').set;
-  setter.call(input, query);
-  input.dispatchEvent(new Event('input', {bubbles: true}));
-})();
+  fill(query);
 """
 
 
@@ -130,9 +111,9 @@ class CaseLink:
     def __init__(self, gui: viser.GuiApi, restore: Callable[[str], None]) -> None:
         self.box = gui.add_text(BOX_LABEL, "", order=-99)
         self.box.on_update(lambda _: restore(str(self.box.value)) if self.box.value else None)
-        js = (READ_ADDRESS.replace("LABEL", json.dumps(BOX_LABEL))
-              .replace("MAX_LINK", str(MAX_LINK)).replace("TOO_LONG", json.dumps(TOO_LONG)))
-        self.reader = gui.add_html(_script(js), order=-98)
+        body = READ_ADDRESS.replace("MAX_LINK", str(MAX_LINK)).replace(
+            "TOO_LONG", json.dumps(TOO_LONG))
+        self.reader = gui.add_html(hidden_box_html(BOX_LABEL, body), order=-98)
         self.writer = gui.add_html("", order=-97)
         self._query = ""
 

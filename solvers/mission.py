@@ -16,7 +16,8 @@ import sys
 import threading
 from collections.abc import Mapping
 from pathlib import Path
-from typing import TYPE_CHECKING
+from types import ModuleType
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -37,6 +38,16 @@ from .solution import Label, Quantity, Solution
 if TYPE_CHECKING:
     from .ocp import OCP, OCPResult
     from .presentation import Presentation
+
+# A mission attribute and the names a mission's `problem` module gives it (the first found).
+RECORD_NAMES: dict[str, tuple[str, ...]] = {
+    "source": ("PAPER", "SOURCE"), "params": ("PARAMS",), "view_params": ("VIEW_PARAMS",),
+    "handles": ("HANDLES",), "shapes": ("SHAPES",), "published": ("PUBLISHED",),
+    "presets": ("PRESETS",), "equations": ("EQUATIONS",), "tolerances": ("TOLERANCES",),
+    "labels": ("LABELS",), "consistency": ("CONSISTENCY",), "cost_label": ("COST_LABEL",),
+    "cost_unit": ("COST_UNIT",),
+}
+
 
 class Mission:
     """A mission is data plus `solve` and `present`.
@@ -69,6 +80,19 @@ class Mission:
     labels: Mapping[str, Label] = {}  # screen names of states, controls and check entries
     handles: tuple[Handle, ...] = ()  # points dragged in the 3D view, bound to params
     shapes: tuple[Sphere, ...] = ()  # obstacles drawn in the 3D view, bound to params
+
+    def __init_subclass__(cls, records: ModuleType | None = None, **kwargs: Any) -> None:
+        """`class M(Mission, records=problem)` takes each record the mission's `problem`
+        module defines (`PARAMS` -> `params`, `PAPER` or `SOURCE` -> `source`: see
+        `RECORD_NAMES`) unless the class body sets it, so a package's `__init__` does not
+        list its own records again."""
+        super().__init_subclass__(**kwargs)
+        if records is None:
+            return
+        for attr, names in RECORD_NAMES.items():
+            found = [getattr(records, n) for n in names if hasattr(records, n)]
+            if found and attr not in cls.__dict__:
+                setattr(cls, attr, found[0])
 
     # ---- records ------------------------------------------------------------------------
     @property

@@ -12,8 +12,6 @@ holds the document's own properties: `URL` there is `document.URL`, hence `windo
 from __future__ import annotations
 
 import html
-import itertools
-import json
 import math
 from collections.abc import Callable
 from typing import TYPE_CHECKING
@@ -22,6 +20,7 @@ import viser
 
 from solvers.mission import Mission
 
+from ..page_scripts import hidden_box_html
 from .status import fmt
 from .value_input import display_unit, shown_text
 
@@ -29,10 +28,8 @@ if TYPE_CHECKING:
     from ..room import Leaderboard, Member, Room
 
 KEY_LABEL = "teacher key"
-_nonce = itertools.count()
-
-READ_KEY = """
-(function () {
+# Takes the key out of the address bar at once, then sends it through the hidden box.
+FORGET_KEY = """
   const here = new window.URL(window.location.href);  // bare URL is document.URL here
   const nav = window.performance.getEntriesByType('navigation')[0];
   const opened = new window.URL(nav ? nav.name : here.href);
@@ -41,28 +38,7 @@ READ_KEY = """
     here.searchParams.delete('teacher');
     window.history.replaceState(null, '', here.pathname + here.search + here.hash);
   }
-  const label = [...document.querySelectorAll('label')].find(
-      (l) => l.textContent.trim() === LABEL);
-  let row = label, input = null;
-  for (let i = 0; i < 5 && row && !input; i++) {
-    row = row.parentElement;
-    input = row && row.querySelector('input');
-  }
-  if (!input) return;
-  if (row.parentElement) row.parentElement.style.display = 'none';
-  if (!key) return;
-  const setter = Object.getOwnPropertyDescriptor(HTMLInputElement.prototype, 'value').set;
-  setter.call(input, key);
-  input.dispatchEvent(new Event('input', {bubbles: true}));
-})();
 """
-
-
-def _script(js: str) -> str:
-    """HTML that runs `js` once (an image that fails to load: viser's HTML runs no
-    <script>)."""
-    return (f'<img src="data:,key{next(_nonce)}" style="display:none" '
-            f'onerror="{html.escape(js)}">')
 
 
 class TeacherKey:
@@ -75,8 +51,8 @@ class TeacherKey:
         self.claimed = False
         self.box = gui.add_text(KEY_LABEL, "", order=-96)
         self.box.on_update(lambda _: self._sent(claim))
-        self.reader = gui.add_html(_script(READ_KEY.replace("LABEL", json.dumps(KEY_LABEL))),
-                                   order=-95)
+        self.reader = gui.add_html(hidden_box_html(KEY_LABEL, "if (key) fill(key);",
+                                                   before=FORGET_KEY), order=-95)
 
     def _sent(self, claim: Callable[[str], None]) -> None:
         key = str(self.box.value)

@@ -175,6 +175,29 @@ def parse_time_limit(text: str) -> float | None:
     return seconds
 
 
+class Pause:
+    """Runs `action` once typing has paused for `delay` s: each keystroke restarts the wait."""
+
+    def __init__(self, action: Callable[[], None], delay: float = COMMIT_AFTER) -> None:
+        self.action, self.delay = action, delay
+        self._timer: threading.Timer | None = None
+        self._lock = threading.Lock()
+
+    def restart(self) -> None:
+        with self._lock:
+            if self._timer is not None:
+                self._timer.cancel()
+            self._timer = threading.Timer(self.delay, self.action)
+            self._timer.daemon = True
+            self._timer.start()
+
+    def cancel(self) -> None:
+        with self._lock:
+            if self._timer is not None:
+                self._timer.cancel()
+                self._timer = None
+
+
 class NumberField:
     """Slider plus typed-value box for one numeric `Param`; `apply(key, si)` receives every
     accepted value, `report(title, message)` every refused one."""
@@ -189,8 +212,7 @@ class NumberField:
                                 hint=f"Type a value ({lo:g} to {hi:g} {display_unit(p)}); "
                                      "it is used when you stop typing.")
         self._syncing = False
-        self._timer: threading.Timer | None = None
-        self._lock = threading.Lock()
+        self._pause = Pause(self.commit)
         self.slider.on_update(self._slid)
         self.box.on_update(self._typed)
 
@@ -224,21 +246,12 @@ class NumberField:
         self.apply(self.param.key, self.value)
 
     def _typed(self, _: Any) -> None:
-        if self._syncing:
-            return
-        with self._lock:
-            if self._timer is not None:
-                self._timer.cancel()
-            self._timer = threading.Timer(COMMIT_AFTER, self.commit)
-            self._timer.daemon = True
-            self._timer.start()
+        if not self._syncing:
+            self._pause.restart()
 
     def commit(self) -> None:
         """Use the typed text now (after the pause, or at once from tests)."""
-        with self._lock:
-            if self._timer is not None:
-                self._timer.cancel()
-                self._timer = None
+        self._pause.cancel()
         text = str(self.box.value)
         if text == shown_text(self.param, self.value):
             return
@@ -261,8 +274,7 @@ class TimeLimitField:
         self.apply, self.report = apply, report
         self.seconds = seconds
         self.box = gui.add_text(label, self.text(seconds), hint=hint)
-        self._timer: threading.Timer | None = None
-        self._lock = threading.Lock()
+        self._pause = Pause(self.commit)
         self.box.on_update(self._typed)
 
     @staticmethod
@@ -270,19 +282,11 @@ class TimeLimitField:
         return "0" if seconds is None else f"{seconds:g}"
 
     def _typed(self, _: Any) -> None:
-        with self._lock:
-            if self._timer is not None:
-                self._timer.cancel()
-            self._timer = threading.Timer(COMMIT_AFTER, self.commit)
-            self._timer.daemon = True
-            self._timer.start()
+        self._pause.restart()
 
     def commit(self) -> None:
         """Use the typed text now (after the pause, or at once from tests)."""
-        with self._lock:
-            if self._timer is not None:
-                self._timer.cancel()
-                self._timer = None
+        self._pause.cancel()
         text = str(self.box.value)
         if text == self.text(self.seconds):
             return

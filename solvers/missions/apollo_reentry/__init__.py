@@ -40,14 +40,10 @@ __all__ = ["MISSION", "R_EARTH", "ApolloReentry", "indirect_solution"]
 SI_PER_MODEL = np.array([LENGTH_UNIT, 1.0, R_EARTH])
 
 
-class ApolloReentry(Mission):
+class ApolloReentry(Mission, records=problem):
     key = "apollo-reentry"
     title = "Apollo reentry, minimum heating"
     summary = "Steer the lift of an Apollo-type capsule to minimise the convective heat load."
-    source = problem.PAPER
-    params = problem.PARAMS
-    handles = problem.HANDLES
-    view_params = problem.VIEW_PARAMS
     methods = (
         MULTIPLE_SHOOTING.replace(
             nodes=(4, 40, 60), backends=("ipopt", "sqp"),
@@ -60,14 +56,7 @@ class ApolloReentry(Mission):
                     summary=LGL.summary + " The sharp dip into the dense air needs about 40 "
                     "nodes for 0.01 % (a global polynomial's weak spot)."),
     )
-    published = problem.PUBLISHED
-    presets = problem.PRESETS
-    equations = problem.EQUATIONS
-    tolerances = problem.TOLERANCES
-    labels = problem.LABELS
-    consistency = problem.CONSISTENCY
     cost_label = "heat load J"
-    cost_unit = problem.COST_UNIT
 
     def check_values(self, values: dict[str, float]) -> None:
         problem.check_values(values)

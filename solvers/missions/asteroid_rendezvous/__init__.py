@@ -21,20 +21,12 @@ from . import problem, view
 from .methods import IMPULSIVE, LOW_THRUST, solve_impulsive, solve_low_thrust
 
 
-class AsteroidRendezvous(Mission):
+class AsteroidRendezvous(Mission, records=problem):
     key = "asteroid-rendezvous"
     title = "Low-thrust asteroid rendezvous"
     summary = ("Fuel-optimal electric-propulsion transfer from Earth to asteroid Kamoʻoalewa "
                "with free launch and arrival dates.")
-    source = problem.PAPER
-    params = problem.PARAMS
     methods = (LOW_THRUST, IMPULSIVE)
-    published = problem.PUBLISHED
-    presets = problem.PRESETS
-    equations = problem.EQUATIONS
-    tolerances = problem.TOLERANCES
-    labels = problem.LABELS
-    consistency = problem.CONSISTENCY
     cost_label = "fuel"
     cost_unit = "kg"
 

@@ -14,21 +14,12 @@ from ...solution import Quantity, Solution
 from . import problem, view
 
 
-class BangBang(Mission):
+class BangBang(Mission, records=problem):
     key = "bang-bang"
     title = "Cart on a rail, minimum time"
     summary = "Rest to rest over a distance with bounded acceleration, in the least time."
-    source = problem.SOURCE
-    params = problem.PARAMS
-    handles = problem.HANDLES
     methods = (HERMITE_SIMPSON.replace(nodes=(4, 100, 200)),
                MULTIPLE_SHOOTING.replace(nodes=(4, 100, 200)), LGL.replace(nodes=(6, 40, 80)))
-    published = problem.PUBLISHED
-    presets = problem.PRESETS
-    equations = problem.EQUATIONS
-    tolerances = problem.TOLERANCES
-    labels = problem.LABELS
-    consistency = problem.CONSISTENCY
     cost_label = "final time"
     cost_unit = "s"
 

@@ -22,14 +22,10 @@ from .methods import PAPER_METHOD, control_burn_time, solve_paper
 from .primer import switching
 
 
-class CWRendezvous(Mission):
+class CWRendezvous(Mission, records=problem):
     key = "cw-rendezvous"
     title = "Finite-thrust rendezvous (CW)"
     summary = "Minimum burn time rendezvous with a target in a circular orbit, fixed time."
-    source = problem.PAPER
-    params = problem.PARAMS
-    handles = problem.HANDLES
-    view_params = problem.VIEW_PARAMS
     methods = (
         PAPER_METHOD,
         HERMITE_SIMPSON.replace(
@@ -44,12 +40,6 @@ class CWRendezvous(Mission):
                     "interval).",
             nodes=(10, 60, 400)),
     )
-    published = problem.PUBLISHED
-    presets = problem.PRESETS
-    equations = problem.EQUATIONS
-    tolerances = problem.TOLERANCES
-    labels = problem.LABELS
-    consistency = problem.CONSISTENCY
     cost_label = "burn time"
     cost_unit = "s"
 

@@ -18,23 +18,12 @@ from .methods import METHODS, solve_method
 from .model import make_case
 
 
-class EllipticTransfer(Mission):
+class EllipticTransfer(Mission, records=problem):
     key = "elliptic-transfer"
     title = "Relative transfer on an elliptic orbit"
     summary = ("Minimum-energy rendezvous about a 9500 km, e = 0.3 target orbit: "
                "Tschauner–Hempel equations, Legendre–Gauss–Lobatto pseudospectral laws.")
-    source = problem.PAPER
-    params = problem.PARAMS
-    view_params = problem.VIEW_PARAMS
     methods = METHODS
-    published = problem.PUBLISHED
-    presets = problem.PRESETS
-    equations = problem.EQUATIONS
-    tolerances = problem.TOLERANCES
-    labels = problem.LABELS
-    consistency = problem.CONSISTENCY
-    cost_label = problem.COST_LABEL
-    cost_unit = problem.COST_UNIT
 
     def help_tables(self) -> dict[str, str]:
         """The cost and convergence tables of help.md, computed once per process."""

@@ -18,23 +18,14 @@ from . import problem, view
 from .two_stage import solve_two_stage
 
 
-class Hovercraft(Mission):
+class Hovercraft(Mission, records=problem):
     key = "hovercraft"
     title = "Hovercraft minimum time"
     summary = "Steer a constant thrust to reach a point and velocity in the least time."
-    source = problem.PAPER
-    params = problem.PARAMS
-    handles = problem.HANDLES
     # SQP first for multiple shooting, as in the paper.
     methods = (MULTIPLE_SHOOTING.replace(nodes=(2, 10, 120), backends=("sqp", "ipopt")),
                HERMITE_SIMPSON.replace(nodes=(2, 10, 300), backends=("ipopt", "sqp")),
                LGL.replace(nodes=(4, 10, 60), backends=("ipopt", "sqp")))
-    published = problem.PUBLISHED
-    presets = problem.PRESETS
-    equations = problem.EQUATIONS
-    tolerances = problem.TOLERANCES
-    labels = problem.LABELS
-    consistency = problem.CONSISTENCY
     cost_label = "final time"
     cost_unit = "s"
 

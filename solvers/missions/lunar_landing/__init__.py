@@ -20,21 +20,12 @@ from .methods import PAPER_METHOD, landing_quantities, solve_paper
 from .pmp import reference_extremal
 
 
-class LunarLanding(Mission):
+class LunarLanding(Mission, records=problem):
     key = "lunar-landing"
     title = "Lunar soft landing"
     summary = "Minimum-fuel powered descent from a 100 × 15 km orbit to a soft touchdown."
-    source = problem.PAPER
-    params = problem.PARAMS
-    handles = problem.HANDLES
     methods = (PAPER_METHOD, HERMITE_SIMPSON.replace(nodes=(5, 30, 200)),
                MULTIPLE_SHOOTING.replace(nodes=(5, 30, 200)))
-    published = problem.PUBLISHED
-    presets = problem.PRESETS
-    equations = problem.EQUATIONS
-    tolerances = problem.TOLERANCES
-    labels = problem.LABELS
-    consistency = problem.CONSISTENCY
     cost_label = "fuel"
     cost_unit = "kg"
 

@@ -22,21 +22,12 @@ from .methods import LOSSLESS, certify_infeasible, record_direct, solve_method
 from .model import parameter_vector
 
 
-class PoweredDescent(Mission):
+class PoweredDescent(Mission, records=problem):
     key = "powered-descent"
     title = "Mars powered descent (convex guidance)"
     summary = "Minimum-fuel pinpoint landing on Mars with a nonconvex thrust bound."
-    source = problem.SOURCE
-    params = problem.PARAMS
     methods = (LOSSLESS, SCVX.replace(nodes=(10, 30, 120)),
                HERMITE_SIMPSON.replace(nodes=(10, 40, 200)))
-    published = problem.PUBLISHED
-    presets = problem.PRESETS
-    equations = problem.EQUATIONS
-    tolerances = problem.TOLERANCES
-    consistency = problem.CONSISTENCY
-    handles = problem.HANDLES
-    labels = problem.LABELS
     cost_label = "fuel"
     cost_unit = "kg"
 
