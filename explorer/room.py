@@ -28,6 +28,17 @@ from .session import Session
 
 
 @dataclass(frozen=True)
+class Shot:
+    """What a teacher shares besides the case: the camera (scene units) and the animation
+    time (s)."""
+
+    position: tuple[float, float, float]
+    look_at: tuple[float, float, float]
+    up: tuple[float, float, float]
+    t: float
+
+
+@dataclass(frozen=True)
 class Entry:
     """One student's best admitted solution of a challenge."""
 
@@ -119,6 +130,8 @@ class Room:
         self.challenge: Challenge | None = None
         self.board: Leaderboard | None = None
         self.listeners: list[Callable[[], None]] = []
+        self.sharing = False  # the teacher shares the camera and the animation clock
+        self.shot: Shot | None = None
         self._placeholder = placeholder
         self._request: Request | None = None
         self._checked = False
@@ -255,6 +268,28 @@ class Room:
         lead.restore(case.mission, case.method, case.nodes, case.values, case.view,
                      case.backend)
 
+    # ---- the teacher's camera and clock ----------------------------------------------
+    def set_sharing(self, on: bool) -> None:
+        """Share the teacher's camera and animation time with the following students (or
+        stop: each keeps the view it has)."""
+        self.sharing = bool(on)
+        if self.sharing and self.shot is not None:
+            self._queue.put((None, "shot", (self.shot,), None))
+        self.changed()
+
+    def share(self, shot: Shot) -> None:
+        """The teacher's camera or clock moved: followers take it (the newest one only, if
+        several wait)."""
+        self.shot = shot
+        if self.sharing:
+            self._queue.put((None, "shot", (shot,), None))
+
+    def _show_shot(self, shot: Shot, members: list[Member]) -> None:
+        for member in members:
+            session = member.session
+            if session.following and session.on_shot is not None:
+                session.on_shot(shot)
+
     # ---- challenges ---------------------------------------------------------------------
     def start_challenge(self, goal: str, frozen: list[str]) -> Challenge:
         """Freeze `frozen` at the room's values on its mission; every student explores."""
@@ -325,11 +360,15 @@ class Room:
             if item is None:
                 return
             case, event, args, members = item
-            if event == "on_progress" and not self._queue.empty():
-                continue  # a newer event is waiting: the followers skip this progress
+            if event in ("on_progress", "shot") and not self._queue.empty():
+                continue  # a newer event is waiting: the followers skip this one
             if members is None:
                 with self._lock:
                     members = [m for m in self.members.values() if not m.teacher]
+            if event == "shot":
+                if self.sharing:
+                    self._show_shot(args[0], members)
+                continue
             for member in members:
                 try:
                     member.session.relay(case, event, args)

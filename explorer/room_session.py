@@ -86,6 +86,7 @@ class RoomSession(Session):
         self.locked_mission: str | None = None
         self.on_branch: Callable[[RoomSession], None] | None = None
         self.on_refused: Callable[[str, str], None] | None = None
+        self.on_shot: Callable[[Any], None] | None = None  # the teacher's camera and clock
         self._room_lock = threading.RLock()
         self._relaying = False
         super().__init__(*args, **kwargs)

@@ -13,7 +13,7 @@ from solvers.mission import Mission
 
 from .panels.room import ClassroomBar, RoomPanel, TeacherKey
 from .requests import Request
-from .room import Room
+from .room import Room, Shot
 from .room_session import RoomSession
 from .runners import Runner
 from .session import Session
@@ -46,6 +46,7 @@ class RoomView(View):
                          runner, scene_root)
         self.room_session: RoomSession = self.session  # type: ignore[assignment]
         self.room_session.on_refused = self._refused
+        self.room_session.on_shot = self._take_shot
         self.bar = ClassroomBar(gui, room, member_id, room_url)
         room.listeners.append(self.room_changed)
         self.member = room.join(member_id, self.room_session)
@@ -84,6 +85,43 @@ class RoomView(View):
         self.bar.refresh()
         if self.panel is not None:
             self.panel.refresh()
+
+    # ---- the teacher's camera and clock ----------------------------------------------
+    def attach(self, client: viser.ClientHandle) -> None:
+        super().attach(client)
+        client.camera.on_update(lambda camera: self._share(camera))
+
+    def _share(self, camera: viser.CameraHandle | None = None) -> None:
+        """The teacher's tab moved its camera or clock: the room hears it."""
+        member = getattr(self, "member", None)  # camera updates may come before joining
+        if member is None or not member.teacher:
+            return
+        if camera is None:
+            clients = list(self.cameras.clients.values())
+            if not clients:
+                return
+            camera = clients[0].camera
+        self.room.share(Shot(tuple(map(float, camera.position)),
+                             tuple(map(float, camera.look_at)),
+                             tuple(map(float, camera.up_direction)), float(self.play.t)))
+
+    def show_time(self, t: float, slow: bool, marker: bool = True) -> None:
+        super().show_time(t, slow, marker)
+        if slow and self.room.sharing:
+            self._share()
+
+    def _take_shot(self, shot: Shot) -> None:
+        """A follower shows the teacher's camera and animation time."""
+        for client in list(self.cameras.clients.values()):
+            with client.atomic():
+                client.camera.up_direction = shot.up
+                client.camera.position = shot.position
+                client.camera.look_at = shot.look_at
+        track = self.play.track
+        if track is not None and not self.play.playing:
+            self.play.t = min(max(shot.t, track.t0), track.tf)
+            View.show_time(self, self.play.t, slow=True)
+            self.play.follow_slider(self.play.t)
 
     def _refused(self, key: str, message: str) -> None:
         self.refuse("the challenge freezes this", message)

@@ -196,6 +196,11 @@ class RoomPanel:
             back = gui.add_button("bring everyone back", icon=viser.Icon.USERS,
                                   hint="Every exploring student follows you again.")
             back.on_click(lambda _: room.bring_back())
+            share = gui.add_checkbox(
+                "share my camera and clock", room.sharing,
+                hint="Students who follow you see the scene from your camera and the "
+                     "animation at your time.")
+            share.on_update(lambda _: room.set_sharing(bool(share.value)))
             self.student = gui.add_dropdown("student", ("(none exploring)",))
             project = gui.add_button("show on the projector", icon=viser.Icon.PRESENTATION,
                                      hint="Take this student's case: you and everyone "

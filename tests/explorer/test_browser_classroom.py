@@ -12,9 +12,11 @@ from collections.abc import Iterator
 import pytest
 from browser_support import BROWSER, HEIGHT, PATIENCE_MS, WIDTH, until
 
-# Slow set for now: in one full default run on a quiet machine the first three of these failed
-# after test_browser.py, while the module passes alone (5 of 5, three runs): not yet understood,
-# so kept out of CI's default set until it is (issue 20). `-m slow` runs them.
+# Slow set for now: in full runs the module's tabs sometimes never drew (the first three
+# tests failed after test_browser.py; 2 of 4 runs with test_room.py), while it passed alone.
+# The wait held the page's first view, which never draws when the page's first connection
+# drops and it reconnects as a new client; `_open` now takes the view that draws (4 of 4
+# since). Kept out of CI's default set until more runs confirm it (issue 20).
 pytestmark = [*BROWSER, pytest.mark.slow]
 pytest.importorskip("playwright.sync_api", reason="Python Playwright is not installed")
 
@@ -48,10 +50,15 @@ def _open(app, context, url: str):
     with app._lock:
         before = set(app.views)
     page.goto(url)
-    new = until(lambda: set(app.views) - before, "the tab to connect")
-    with app._lock:
-        view = app.views[min(new)]
-    until(lambda: view.drawn, "the tab's first picture")
+
+    def drawn_view():
+        """The page's view once drawn (a page whose first connection dropped reconnects
+        as a new client: its first view is closed and never draws)."""
+        with app._lock:
+            new = [app.views[k] for k in sorted(set(app.views) - before)]
+        return next((v for v in reversed(new) if v.drawn), None)
+
+    view = until(drawn_view, "the tab's first picture")
     return page, view
 
 
@@ -113,6 +120,42 @@ def test_the_teacher_moves_and_every_student_shows_the_new_optimum(room):
         assert view.session.values["thrust"] == sol.values["thrust"]
         page.get_by_text(fmt(sol.cost.value, sol.cost.unit)).first.wait_for(
             timeout=PATIENCE_MS)
+
+
+def test_the_teacher_shares_the_camera_and_the_clock(room):
+    """The teacher ticks "share my camera and clock" and turns the view with the mouse:
+    every follower's camera takes the teacher's; a moved animation time follows too."""
+    import numpy as np
+
+    app, (tpage, tview), students = room
+    tpage.get_by_text("share my camera and clock").first.click()
+    until(lambda: app.room.sharing, "the teacher's sharing to start")
+    teacher_camera = next(iter(tview.cameras.clients.values())).camera
+    before = np.array(teacher_camera.position)
+    box = tpage.locator("canvas").first.bounding_box()
+    x, y = box["x"] + 0.45 * box["width"], box["y"] + 0.35 * box["height"]
+    tpage.mouse.move(x, y)
+    tpage.mouse.down()
+    for k in range(1, 11):
+        tpage.mouse.move(x + 12 * k, y + 3 * k)
+    tpage.mouse.up()
+    until(lambda: not np.allclose(teacher_camera.position, before), "the teacher's camera")
+
+    def same(view) -> bool:
+        camera = next(iter(view.cameras.clients.values())).camera
+        return bool(np.allclose(camera.position, teacher_camera.position, rtol=1e-3)
+                    and np.allclose(camera.look_at, teacher_camera.look_at, rtol=1e-3,
+                                    atol=1e-6))
+
+    for _, view in students:
+        until(lambda v=view: v.session.following and same(v), "a follower's camera")
+    track = tview.play.track
+    tview.play.t = 0.5 * (track.t0 + track.tf)
+    tview.show_time(tview.play.t, slow=True)
+    for _, view in students:
+        until(lambda v=view: abs(v.play.t - tview.play.t) < 1e-9, "a follower's clock")
+    tpage.get_by_text("share my camera and clock").first.click()
+    until(lambda: not app.room.sharing, "the sharing to stop")
 
 
 def test_a_students_move_branches_and_never_changes_the_teacher(room):

@@ -273,3 +273,30 @@ def test_followers_share_the_teachers_plot_figure():
         for view in views:
             view.close()
         server.stop()
+
+
+def test_followers_take_the_teachers_camera_and_clock_only_while_shared(room):
+    """Issue 20: the teacher may share the camera and the animation clock; a follower
+    shows them, an explorer keeps its own view, and nothing moves while sharing is off."""
+    from explorer.room import Shot
+
+    mission, lead, room, student = room
+    (a, _), (b, _) = student(1), student(2)
+    seen_a: list[Shot] = []
+    seen_b: list[Shot] = []
+    a.on_shot, b.on_shot = seen_a.append, seen_b.append
+    first = Shot((1.0, 2.0, 3.0), (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), 5.0)
+    room.share(first)
+    b.set_value("y", 2.0)  # b explores
+    room.set_sharing(True)  # the last shot goes out at once
+    until(lambda: seen_a, "the shared camera on the follower")
+    assert seen_a[-1] == first
+    second = Shot((4.0, 5.0, 6.0), (1.0, 0.0, 0.0), (0.0, 0.0, 1.0), 7.5)
+    room.share(second)
+    until(lambda: seen_a[-1] == second, "the teacher's next camera")
+    room.set_sharing(False)
+    room.share(Shot((9.0, 9.0, 9.0), (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), 1.0))
+    lead.set_value("x", 2.0)  # an event behind the shot: once relayed, the shot was skipped
+    lead.wait_idle(10)
+    until(lambda: a.values["x"] == 2.0, "the teacher's case")
+    assert seen_a[-1] == second and not seen_b
