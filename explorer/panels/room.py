@@ -25,7 +25,8 @@ from .status import fmt
 from .value_input import display_unit, shown_text
 
 if TYPE_CHECKING:
-    from ..room import Leaderboard, Member, Room
+    from ..leaderboard import Leaderboard
+    from ..room import Member, Room
 
 KEY_LABEL = "teacher key"
 # Takes the key out of the address bar at once, then sends it through the hidden box.

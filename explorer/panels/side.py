@@ -42,7 +42,6 @@ class SidePanel:
         self.panel.float(x=-PANEL_GAP, y=-PANEL_GAP, width=PLOT_PANEL[0], height=PLOT_PANEL[1])
         self.figure = PageFigure(figure_tree([]), 0)
         self.marker_t: float | None = None
-        self.dark = True
         self.show_figure(self.figure)
         self._map_key: tuple | None = None
 
@@ -72,7 +71,7 @@ class SidePanel:
 
     def move_marker(self, t: float | None, dark: bool = True) -> None:
         """Send the figure again with its time marker at `t`."""
-        self.marker_t, self.dark = t, dark
+        self.marker_t = t
         # viser's own setter encodes a go.Figure (6 ms); the JSON is written once here and
         # set as the handle's synced property (viser 1.x: `_plotly_json_str`).
         self.plot._plotly_json_str = self.figure.text(t, dark)

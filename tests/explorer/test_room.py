@@ -11,8 +11,9 @@ import time
 import numpy as np
 import pytest
 
+from explorer.leaderboard import Leaderboard
 from explorer.panels.room import board_html, members_html
-from explorer.room import Leaderboard, Room
+from explorer.room import Room
 from explorer.room_session import Challenge, RoomSession
 from explorer.runners import LocalRunner
 from explorer.session import Session
