@@ -10,11 +10,16 @@ from collections.abc import Callable
 from contextlib import AbstractContextManager
 
 import numpy as np
+import viser
 
+from solvers.mission import Mission
 from solvers.presentation import Presentation
 from solvers.solution import Solution
 
 from .geometry import PALETTE, ghost_geometry, path_segments
+from .page_figures import PageFigure
+from .panels.compare import comparison_html
+from .panels.side import SidePanel
 from .plots import figure_tree
 from .scene import SceneView
 
@@ -23,8 +28,44 @@ REPLAY_STEP_S = 0.45  # s per iterate in the iteration replay
 Figure = Callable[..., None]
 
 
+Color = tuple[int, int, int]
+
+
+class ComparisonOverlay:
+    """The solutions of one comparison drawn together: each path a scene layer in its colour
+    over the hidden solution, their plots overlaid in one figure, their table in the Compare
+    tab."""
+
+    def __init__(self, scene: SceneView, lock: AbstractContextManager, side: SidePanel,
+                 table: viser.GuiHtmlHandle, present: Callable[[Solution], Presentation]
+                 ) -> None:
+        self.solutions: list[Solution] = []
+        self._scene, self._lock, self._side, self._table = scene, lock, side, table
+        self._present = present
+
+    def show(self, mission: Mission, solutions: list[Solution], labels: list[str],
+             dark: bool) -> list[tuple[str, Color]]:
+        """Draw the comparison; returns the legend's (label, colour) entries."""
+        self.solutions = solutions
+        presentations = [self._present(s) if s.has_trajectory else None for s in solutions]
+        colors = comparison_layers(self._scene, self._lock, presentations)
+        with self._lock:
+            self._side.show_figure(PageFigure(comparison_figure(
+                labels, colors, presentations, dark), 0))
+        self._table.content = comparison_html(mission, solutions, colors, labels)
+        return list(zip(labels, colors, strict=True))
+
+    def clear(self) -> None:
+        """Back to the solution alone."""
+        self.solutions = []
+        self._table.content = ""
+        with self._lock:
+            self._scene.clear_layers("compare")
+            self._scene.show_solution(True)
+
+
 def comparison_layers(scene: SceneView, lock: AbstractContextManager,
-                      presentations: list[Presentation | None]) -> list[tuple[int, int, int]]:
+                      presentations: list[Presentation | None]) -> list[Color]:
     """Draw each presentation's path in its comparison colour over a hidden solution;
     returns the colours."""
     colors = [PALETTE[i % len(PALETTE)] for i in range(len(presentations))]
@@ -40,7 +81,7 @@ def comparison_layers(scene: SceneView, lock: AbstractContextManager,
     return colors
 
 
-def comparison_figure(labels: list[str], colors: list[tuple[int, int, int]],
+def comparison_figure(labels: list[str], colors: list[Color],
                       presentations: list[Presentation | None], dark: bool) -> dict:
     """The plots of every compared solution overlaid, in their colours (a plotly tree)."""
     first = next((p for p in presentations if p is not None), None)
@@ -89,9 +130,3 @@ class IterationReplay:
             time.sleep(REPLAY_STEP_S)
         self.say(f"{n} iterates recorded; the optimum is drawn in colour")
         self.finish()
-
-
-def solutions_drawn(solutions: list[Solution], present: Callable[[Solution], Presentation]
-                    ) -> list[Presentation | None]:
-    """The presentation of each solution that has a trajectory (None for the others)."""
-    return [present(s) if s.has_trajectory else None for s in solutions]

@@ -97,7 +97,7 @@ class RoomView(View):
         if member is None or not member.teacher:
             return
         if camera is None:
-            clients = list(self.cameras.clients.values())
+            clients = list(self.camera.clients.values())
             if not clients:
                 return
             camera = clients[0].camera
@@ -112,7 +112,7 @@ class RoomView(View):
 
     def _take_shot(self, shot: Shot) -> None:
         """A follower shows the teacher's camera and animation time."""
-        for client in list(self.cameras.clients.values()):
+        for client in list(self.camera.clients.values()):
             with client.atomic():
                 client.camera.up_direction = shot.up
                 client.camera.position = shot.position

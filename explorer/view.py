@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import threading
 import time
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Sequence
 from contextlib import AbstractContextManager
 from typing import Any
 
@@ -23,20 +23,19 @@ from solvers.solution import Solution
 
 from . import style
 from .about import about_html
-from .camera import Cameras, shot_pose, top_view
 from .geometry import WARNING, Geometry, build_geometry, ghost_geometry, path_segments
 from .handles import Handles
 from .help import KeyHelp, Welcome
 from .legend import legend_html
 from .link import CaseLink, case_query, parse_case
 from .optimality import color_by_error, optimality_plots
-from .overlays import IterationReplay, comparison_figure, comparison_layers, solutions_drawn
+from .overlays import ComparisonOverlay, IterationReplay
 from .page_figures import SHARED, PageFigure
-from .panels.compare import ComparePanel, comparison_html
+from .panels.compare import ComparePanel
 from .panels.export import ExportPanel
-from .panels.play import CAMERAS, PlayPanel
+from .panels.play import PlayPanel
 from .panels.setup import Controls
-from .panels.side import PANEL_GAP, PLOT_PANEL, SidePanel
+from .panels.side import SidePanel
 from .panels.status import StatusPanel
 from .panels.trust import TrustPanel
 from .player import Track
@@ -45,6 +44,7 @@ from .readouts import readout_markdown, readouts
 from .runners import Runner
 from .scene import SceneView
 from .session import DEFAULT_TIME_LIMIT, Request, Session
+from .view_camera import ViewCamera
 
 PROGRESS_INTERVAL = 0.1  # s between "solving… iteration k" updates
 DIM_AFTER = 0.25  # s: a solve slower than this dims the old trajectory while it runs
@@ -84,7 +84,6 @@ class View:
         self._failed = False
         self._geometry: Geometry | None = None
         self._shown: tuple[Solution, Presentation, bool] | None = None
-        self._comparison: list[Solution] = []
         self._drawn: tuple = ()  # what the check could change of the drawing on screen
         self._marker_at = 0.0
 
@@ -100,21 +99,25 @@ class View:
         with tab_setup:
             self.trust = TrustPanel(gui, self.session, self._redraw, order=10.5)
         with tabs.add_tab("Play", viser.Icon.PLAYER_PLAY):
-            self.play = PlayPanel(gui, self.show_time, self.apply_camera, self.reset_camera,
-                                  self._draw_ghosts, self.replay_iterations)
+            self.play = PlayPanel(gui, self.show_time, lambda: self.camera.apply(),
+                                  lambda: self.camera.reset(), self._draw_ghosts,
+                                  self.replay_iterations)
         with tabs.add_tab("Compare", viser.Icon.LAYOUT_COLUMNS):
             self.compare = ComparePanel(gui, self.session.compare,
                                         lambda: self.clear_comparison(redraw=True))
         with tabs.add_tab("Export", viser.Icon.DOWNLOAD):
             self.export = ExportPanel(gui, self.current, self.session.time_limit,
                                       self.session.set_time_limit, self.set_dark,
-                                      self.shot_camera, self.refuse)
+                                      lambda aspect: self.camera.shot(aspect), self.refuse)
         self.side = SidePanel(gui, self._redraw)
-        self.cameras = Cameras(PLOT_PANEL[1] + PANEL_GAP)
         self._build_commands()
         self.scene = SceneView(scene, dark=self.dark, root=scene_root)
+        self.camera = ViewCamera(self.play, self._lock, self._drawn_geometry,
+                                 lambda: self.scene.vehicle_size)
         self.handles = Handles(scene, self.session, self.controls, self.refuse, scene_root,
-                               released=self._frame_if_needed)
+                               released=self.camera.frame_if_needed)
+        self.overlay = ComparisonOverlay(self.scene, self._lock, self.side,
+                                         self.compare.table, self.present)
         self.replay = IterationReplay(self.scene, self._lock, lambda: self.presentation,
                                       self._say_replay, self._replay_done)
         self.session.listeners.append(self)
@@ -127,7 +130,7 @@ class View:
                                     icon=viser.Icon.PLAYER_PLAY)
         play.on_trigger(lambda _: self.play.toggle())
         reset = self.gui.add_command("Reset camera", hotkey="R", icon=viser.Icon.FOCUS_CENTERED)
-        reset.on_trigger(lambda _: self.reset_camera())
+        reset.on_trigger(lambda _: self.camera.reset())
         self.key_help = KeyHelp(self.gui)
 
     def mission_reloaded(self, mission: Mission, missions: Sequence[Mission]) -> None:
@@ -146,7 +149,7 @@ class View:
             mission, method, nodes, backend, values, view = parse_case(query, self.missions)
             self.session.restore(mission, method, nodes, values, view, backend)
         except ValueError as exc:  # the default case stays; the notice says why
-            self.status.notify_kept(self.cameras.clients.values(),
+            self.status.notify_kept(self.camera.clients.values(),
                                     "this link's case cannot be restored", str(exc))
 
     def _say_replay(self, text: str) -> None:
@@ -154,7 +157,7 @@ class View:
 
     def refuse(self, title: str, message: str) -> None:
         """A typed value was refused: say why in every watching browser."""
-        self.status.notify(self.cameras.clients.values(), title, message)
+        self.status.notify(self.camera.clients.values(), title, message)
 
     # ---- what is on screen ------------------------------------------------------------------
     @property
@@ -165,7 +168,12 @@ class View:
     @property
     def comparison(self) -> list[Solution]:
         """The solutions of the comparison on screen (empty when none)."""
-        return self._comparison
+        return self.overlay.solutions
+
+    def _drawn_geometry(self) -> tuple[str, Geometry] | None:
+        """(mission key, geometry) of the drawing on screen, for the cameras."""
+        shown, geometry = self._shown, self._geometry
+        return None if shown is None or geometry is None else (shown[0].mission, geometry)
 
     @property
     def presentation(self) -> Presentation | None:
@@ -181,12 +189,10 @@ class View:
     # ---- browsers watching this view ----------------------------------------------------
     def attach(self, client: viser.ClientHandle) -> None:
         """A browser starts watching: frame the current solution in its camera."""
-        self.cameras.attach(client, lambda c: self.apply_camera([c]))
-        if self._geometry is not None:
-            self.apply_camera([client])
+        self.camera.attach(client)
 
     def detach(self, client: viser.ClientHandle) -> None:
-        self.cameras.detach(client)
+        self.camera.detach(client)
 
     def close(self) -> None:
         self._closed.set()
@@ -209,7 +215,7 @@ class View:
             with self._lock:  # another mission: its first solve may fail, show nothing old
                 self.scene.clear()
                 self._geometry, self._shown = None, None
-                self.cameras.framed = None
+                self.camera.forget_frame()
                 self.play.set_track(None)
                 self.side.show_figure(PageFigure(figure_tree([], dark=self.dark), 0))
             self.status.clear()
@@ -257,7 +263,7 @@ class View:
             if good is not None:
                 self._draw(good, dim=True)
             self._set_failed(solution if solution.has_trajectory else None)
-            self.status.notify(self.cameras.clients.values(),
+            self.status.notify(self.camera.clients.values(),
                                f"{solution.status}: {solution.mission}", solution.message)
         self.status.show_result(solution, checking=solution.ok and solution.has_trajectory,
                                 kept=good is not None and not solution.converged,
@@ -284,7 +290,7 @@ class View:
         good = self.session.last_good
         if good is not None:
             self._draw(good, dim=True)
-        self.status.notify(self.cameras.clients.values(), "request rejected", message)
+        self.status.notify(self.camera.clients.values(), "request rejected", message)
         self.status.show_rejected(message, kept=good is not None)
 
     def on_compare(self, request: Request, solutions: list[Solution]) -> None:
@@ -327,7 +333,7 @@ class View:
         self.status.legend.content = legend_html(geometry, dim=dim, failed=self._failed,
                                                  dark=self.dark)
         if not self.handles.in_hand:  # never under a hand: the point held would slip
-            self._frame_if_needed()
+            self.camera.frame_if_needed()
         self.drawn += 1
 
     def _figure(self, sol: Solution, pres: Presentation, plots: list[PlotSeries],
@@ -379,27 +385,15 @@ class View:
     # ---- comparison and replay -----------------------------------------------------------
     def show_comparison(self, solutions: list[Solution],
                         names: list[str] | None = None) -> None:
-        self._comparison = solutions
-        presentations = solutions_drawn(solutions, self.present)
-        colors = comparison_layers(self.scene, self._lock, presentations)
-        labels = names or [s.method for s in solutions]
-        with self._lock:
-            self.side.show_figure(PageFigure(comparison_figure(
-                labels, colors, presentations, self.dark), 0))
-        self.compare.table.content = comparison_html(self.session.mission, solutions, colors,
-                                                     labels)
+        entries = self.overlay.show(self.session.mission, solutions,
+                                    names or [s.method for s in solutions], self.dark)
         if self._geometry is not None:
-            self.status.legend.content = legend_html(self._geometry, comparison=list(zip(
-                labels, colors, strict=True)))
+            self.status.legend.content = legend_html(self._geometry, comparison=entries)
 
     def clear_comparison(self, redraw: bool) -> None:
-        if not self._comparison and not redraw:
+        if not self.overlay.solutions and not redraw:
             return
-        self._comparison = []
-        self.compare.table.content = ""
-        with self._lock:
-            self.scene.clear_layers("compare")
-            self.scene.show_solution(True)
+        self.overlay.clear()
         good = self.session.last_good
         if redraw and good is not None:
             self._draw(good, dim=False)
@@ -409,7 +403,7 @@ class View:
 
     def _replay_done(self) -> None:
         with self._lock:
-            self.scene.show_solution(not self._comparison)
+            self.scene.show_solution(not self.overlay.solutions)
         self._draw_ghosts()
 
     # ---- animation ----------------------------------------------------------------------
@@ -431,8 +425,7 @@ class View:
         with self._lock:
             self.scene.move_vehicle(pose)
             self.scene.move_bodies(t)
-        if self.play.camera_mode.value == "follow vehicle" and self._geometry is not None:
-            self.cameras.chase(self._geometry, pose.position, self.scene.vehicle_size)
+        self.camera.follow(pose.position)
         if not slow:
             return
         self.play.readout.content = readout_markdown(readouts(sol, pres, track, t), pres.frame)
@@ -441,39 +434,9 @@ class View:
             return
         self._marker_at = now
         with self._lock:
-            if not self._comparison:
+            if not self.overlay.solutions:
                 self.side.move_marker(t * pres.time_scale, self.dark)
 
-    # ---- camera -------------------------------------------------------------------------
-    def _frame_if_needed(self) -> None:
-        """Frame the drawn path again if it left the framed box (after a drawing, a drag)."""
-        with self._lock:
-            shown, geometry = self._shown, self._geometry
-            if shown is not None and geometry is not None \
-                    and self.cameras.needs_framing(shown[0].mission, geometry):
-                self.apply_camera()
-    def reset_camera(self) -> None:
-        self.cameras.forget_user_views()
-        if self.play.camera_mode.value != CAMERAS[0]:
-            self.play.camera_mode.value = CAMERAS[0]  # runs apply_camera through its callback
-        else:
-            self.apply_camera()
-
-    def shot_camera(self, aspect: float) -> tuple[np.ndarray, np.ndarray, float] | None:
-        """A camera framing the path on a whole image of `aspect` (for the screenshot)."""
-        return None if self._geometry is None else shot_pose(self._geometry, aspect)
-
-    def apply_camera(self, clients: Iterable[viser.ClientHandle] | None = None) -> None:
-        """Point the cameras (of `clients`, default all watching) by the camera mode."""
-        g = self._geometry
-        if g is None:
-            return
-        mode = self.play.camera_mode.value
-        follow = None
-        if mode == "follow vehicle" and self.play.track is not None:
-            follow = self.play.track.pose(self.play.t).position
-        self.cameras.frame(g, top_view(g) if mode == "top view" else None, clients, follow,
-                           self.scene.vehicle_size)
 
 
 def _signature(pres: Presentation, sol: Solution) -> tuple:

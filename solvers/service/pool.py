@@ -18,15 +18,14 @@ import multiprocessing as mp
 import os
 import threading
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from multiprocessing.connection import Connection
 
 from ..registry import get_mission, list_missions
-from ..solution import Solution
+from .job import Job, Progress
 from .protocol import CheckUpdate, SolveSpec, light_warm
 from .worker import resident_bytes, worker_main
 
-Progress = Callable[[int, str], None]
 GRACE = 1.0  # s past a solve's time limit before its worker is killed
 # s a worker has to acknowledge a solve (its reader thread answers at once; the longest wait
 # for the GIL measured in a native NLP build or solve: 0.3 s). A worker that does not is
@@ -42,68 +41,6 @@ RSS_BUDGET = 700 * 2**20  # bytes per worker before it empties its NLP cache or 
 # Whether an older answer stays on screen is the caller's to say (it knows whether it has one).
 CRASHED = ("the solver process stopped unexpectedly ({why}) — try again, or another method or "
            "node count")
-
-
-class Job:
-    """One solve handed to the service: wait for `result()`, then (optionally) `check()`."""
-
-    def __init__(self, service: SolveService, job_id: int, spec: SolveSpec, session: str,
-                 progress: Progress | None) -> None:
-        self.service, self.id, self.spec = service, job_id, spec
-        self.session, self.progress = session, progress
-        self.solution: Solution | None = None
-        self.error: str | None = None
-        self.done = threading.Event()
-        self.checked = threading.Event()
-        self.worker: int | None = None
-        self.started: float | None = None
-
-    @property
-    def deadline(self) -> float | None:
-        limit = self.spec.time_limit
-        if self.started is None or limit is None:
-            return None
-        return self.started + limit + self.service.grace
-
-    def result(self, timeout: float | None = None) -> Solution:
-        """The answer (any status); `ValueError` for bad input, `TimeoutError` if none came
-        within `timeout`."""
-        if not self.done.wait(timeout):
-            raise TimeoutError(f"no answer within {timeout:g} s")
-        if self.error is not None:
-            raise ValueError(self.error)
-        assert self.solution is not None
-        return self.solution
-
-    def check(self, timeout: float | None = None) -> bool:
-        """Wait until the re-propagation check has been filled into `result()`."""
-        return self.checked.wait(timeout)
-
-    def checked_result(self) -> Solution:
-        """The answer with its check, waited for in short slices (Ctrl-C stays prompt). The
-        check gets what the solve left of the time limit; one not back by the hard deadline
-        (limit plus grace) is given up, and the answer says that its accuracy is unknown."""
-        while not self.done.wait(0.1):
-            pass
-        sol = self.result()
-        while not self.checked.wait(0.1):
-            if self.deadline is not None and time.monotonic() > self.deadline:
-                sol.check["error"] = float("nan")
-                sol.message += (" (the re-propagation check did not finish within the time "
-                                f"limit of {self.spec.time_limit:g} s)")
-                sol.judge()
-                break
-        return sol
-
-    def cancel(self) -> None:
-        self.service.cancel(self)
-
-    def _finish(self, solution: Solution | None = None, error: str | None = None,
-                checked: bool = True) -> None:
-        self.solution, self.error = solution, error
-        self.done.set()
-        if checked:
-            self.checked.set()
 
 
 class _Worker:
@@ -328,7 +265,7 @@ class SolveService:
             raise RuntimeError(self._broken)
         if spec.warm is not None:
             spec = SolveSpec(**{**spec.__dict__, "warm": light_warm(spec.warm)})
-        job = Job(self, next(self._ids), spec, session, progress)
+        job = Job(next(self._ids), spec, session, progress, self.grace, self.cancel)
         with self._lock:
             self._queue.append(job)
             self._dispatch()

@@ -130,7 +130,7 @@ def test_the_teacher_shares_the_camera_and_the_clock(room):
     app, (tpage, tview), students = room
     tpage.get_by_text("share my camera and clock").first.click()
     until(lambda: app.room.sharing, "the teacher's sharing to start")
-    teacher_camera = next(iter(tview.cameras.clients.values())).camera
+    teacher_camera = next(iter(tview.camera.clients.values())).camera
     before = np.array(teacher_camera.position)
     box = tpage.locator("canvas").first.bounding_box()
     x, y = box["x"] + 0.45 * box["width"], box["y"] + 0.35 * box["height"]
@@ -142,7 +142,7 @@ def test_the_teacher_shares_the_camera_and_the_clock(room):
     until(lambda: not np.allclose(teacher_camera.position, before), "the teacher's camera")
 
     def same(view) -> bool:
-        camera = next(iter(view.cameras.clients.values())).camera
+        camera = next(iter(view.camera.clients.values())).camera
         return bool(np.allclose(camera.position, teacher_camera.position, rtol=1e-3)
                     and np.allclose(camera.look_at, teacher_camera.look_at, rtol=1e-3,
                                     atol=1e-6))

@@ -29,7 +29,7 @@ STILL = 1.5  # s without camera motion before the camera is read
 
 
 def _client(view):
-    clients = list(view.cameras.clients.values())
+    clients = list(view.camera.clients.values())
     assert len(clients) == 1
     return clients[0]
 

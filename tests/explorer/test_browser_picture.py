@@ -60,7 +60,7 @@ def _label_box(page, label, near: tuple[float, float], timeout: float = 10.0
 
 def _project(page, view, point: np.ndarray) -> tuple[float, float]:
     """Where the page's camera draws a display-frame point (page pixels)."""
-    client = next(iter(view.cameras.clients.values()))
+    client = next(iter(view.camera.clients.values()))
     cam = client.camera
     box = page.evaluate("() => { const r = document.querySelector('canvas')"
                         ".getBoundingClientRect(); return [r.left, r.top, r.width, r.height]; }")

@@ -163,10 +163,20 @@ def test_low_thrust_fast_case_reproduces_the_papers_shape(fast_solution):
 def test_low_thrust_repropagation_misses_little(fast_solution):
     check = fast_solution.check
     # 40 segments of ~10 d: Hermite–Simpson is 4th order, the miss shrinks fast with N
-    # (about 60 km at the default 150 segments, see the slow test).
+    # (under 1 km at the default 400 segments, next test).
     assert check["arrival_position_miss_m"] < 3e7
     assert check["arrival_velocity_miss_m_s"] < 5.0
     assert abs(check["final_mass_difference_kg"]) < 1e-6
+
+
+def test_the_live_default_is_optimal_within_the_one_kilometre_target(solved):
+    """The default 400-segment mesh meets the mission's own targets (1 km, 1 cm/s, cost
+    error within 1e-4 of the fuel) on the paper 003 case; 150 segments missed by 30 km."""
+    sol = solved("asteroid-rendezvous", "hermite-simpson", None, {})
+    assert sol.nodes == 400
+    assert sol.status == "optimal", sol.message
+    assert sol.check["arrival_position_miss_m"] < 1e3
+    assert sol.cost.error_estimate <= 1e-4 * sol.cost.value
 
 
 def test_warm_restart_after_a_small_thrust_change(fast_solution):

@@ -55,7 +55,13 @@ LOW_THRUST = HERMITE_SIMPSON.replace(
             "particle swarm's impulsive transfer, through a 30-segment pre-solve. IPOPT "
             "(default, adaptive barrier) or CasADi SQP (slow, often unconverged here: use a "
             "time limit).",
-    nodes=(10, 150, 600), nodes_label="segments",
+    # 400 segments by default: the arrival miss is Hermite–Simpson's smooth 4th-order
+    # truncation error, largest on the coast arc near 0.89 AU (not at the switches): 29.8 km
+    # at 150, 2.0 km at 300, 0.59 km at 400 (target 1 km); a warm re-solve takes ~60 ms. The
+    # cap is 450: from an interpolated start IPOPT stops converging above it (500 segments
+    # from the 400 answer hit the 3000-iteration limit, 600 the time limit), so at 400 the
+    # cost error estimate comes from a 266-segment solve (`cost_error.reference_nodes`).
+    nodes=(10, 400, 450), nodes_label="segments",
     params=(
         Param("presolve_segments", "pre-solve segments (0: none)", "", 30.0, 0.0, 100.0,
               5.0, group="Method", integer=True,

@@ -143,9 +143,9 @@ PUBLISHED = (
 )
 
 # Accuracy targets of the re-propagated arrival (SI): 1 km and 1 cm/s, a rendezvous the
-# spacecraft's own approach can finish. The live default of 150 segments (2.7 d each) misses
-# by about 36 km and says so ("inaccurate", with refinement offered): 450 segments land within
-# 0.45 km (nodes="auto" finds them, tests/core/test_refine.py).
+# spacecraft's own approach can finish. The live default of 400 segments lands within about
+# 0.6 km (150 segments missed by 30 km); where it does not, "inaccurate" offers refinement
+# up to the 450-segment cap (tests/core/test_refine.py).
 TOLERANCES = {"arrival_position_miss_m": 1e3, "arrival_velocity_miss_m_s": 0.01}
 
 CONSISTENCY = (
