@@ -4,7 +4,9 @@ CVXPY parameters and re-solved by Clarabel with new data: a slider move costs a 
 
 Variables at N+1 nodes: r, v, z = ln m, u = T/m and the slack σ = Γ/m ≥ |u|; u and σ are
 linear between nodes (first-order hold), so r and v are integrated exactly and z by the
-trapezoid rule. The thrust bounds ρ1 ≤ Γ ≤ ρ2 become, with μ_i = ρ_i e^{-z_lin},
+trapezoid rule. The nodes sit at t = τ t_f on a mesh τ that is a parameter too: equal steps
+during the final-time search, then one that follows the thrust switches (`switch_mesh.py`).
+The thrust bounds ρ1 ≤ Γ ≤ ρ2 become, with μ_i = ρ_i e^{-z_lin},
 μ1 (1 - δ + δ²/2) ≤ σ ≤ μ2 (1 - δ),  δ = z - z_lin (the papers' Taylor bounds about z_lin);
 the papers expand about the max-thrust mass profile z0(t) = ln(m_wet - ρ2 t / c), and here the
 expansion is repeated about the last solution's z until it no longer moves, so the bounds are
@@ -17,6 +19,7 @@ horizontal distance of the touchdown from the target, then the fuel at that dist
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import cvxpy as cp
@@ -36,10 +39,12 @@ from .model import (
     P_VMAX,
     flight_time_bounds,
 )
+from .switch_mesh import SHORT, switch_mesh, switch_times
 
 GOLDEN = (np.sqrt(5.0) - 1.0) / 2.0
 REACHED = 0.1  # m: a least landing error below this reaches the target (minimum fuel then)
 SOLVED = (cp.OPTIMAL, cp.OPTIMAL_INACCURATE)
+ROUNDS = 3  # re-centrings of the mesh on the switches
 
 
 @dataclass
@@ -47,6 +52,7 @@ class SOCPResult:
     """One SOCP optimum at a fixed final time (problem units)."""
 
     tf: float
+    t: np.ndarray  # (N+1,) node times, s
     r: np.ndarray  # (N+1, 3)
     v: np.ndarray
     z: np.ndarray  # (N+1,)
@@ -69,9 +75,11 @@ class DescentSOCP:
         self.sigma = cp.Variable(N + 1)
         par = cp.Parameter
         self.r0, self.v0 = par(3), par(3)
-        self.h, self.h2 = par(nonneg=True), par(nonneg=True)  # step and step²
-        self.gdt, self.gdt2 = par(3), par(3)  # g h and g h² / 2
-        self.alpha_h = par(nonneg=True)  # h / (2 c)
+        # Per interval k (rows): h_k / 2 and h_k² (repeated over the 3 axes), g h_k,
+        # g h_k² / 2 and h_k / (2 c).
+        self.half_h, self.h2 = par((N, 3), nonneg=True), par((N, 3), nonneg=True)
+        self.gdt, self.gdt2 = par((N, 3)), par((N, 3))
+        self.alpha_h = par(N, nonneg=True)
         self.z_lin = par(N + 1)  # where e^{-z} is expanded
         self.inv_mu1 = par(N + 1, nonneg=True)  # 1 / (ρ1 e^{-z_lin})
         self.inv_mu2 = par(N + 1, nonneg=True)
@@ -84,10 +92,10 @@ class DescentSOCP:
         r, v, z, u, s = self.r, self.v, self.z, self.u, self.sigma
         cons = [
             r[0] == self.r0, v[0] == self.v0, z[0] == self.z_wet,
-            v[1:] == v[:-1] + self.h / 2 * (u[:-1] + u[1:]) + np.ones((N, 1)) @ self.gdt[None, :],
-            r[1:] == r[:-1] + self.h * v[:-1] + self.h2 * (u[:-1] / 3 + u[1:] / 6)
-            + np.ones((N, 1)) @ self.gdt2[None, :],
-            z[1:] == z[:-1] - self.alpha_h * (s[:-1] + s[1:]),
+            v[1:] == v[:-1] + cp.multiply(self.half_h, u[:-1] + u[1:]) + self.gdt,
+            r[1:] == r[:-1] + 2 * cp.multiply(self.half_h, v[:-1])
+            + cp.multiply(self.h2, u[:-1] / 3 + u[1:] / 6) + self.gdt2,
+            z[1:] == z[:-1] - cp.multiply(self.alpha_h, s[:-1] + s[1:]),
             cp.norm(u, 2, axis=1) <= s,
             cp.multiply(self.inv_mu1, s) >= 1 - (z - self.z_lin)
             + cp.square(z - self.z_lin) / 2,
@@ -105,20 +113,23 @@ class DescentSOCP:
         self.fuel_problem = cp.Problem(cp.Maximize(z[N]), cons)
         self.miss_problem = cp.Problem(cp.Minimize(cp.norm(r[N, :2])), cons)
 
-    def set_data(self, p: np.ndarray, tf: float, z_lin: np.ndarray | None = None) -> None:
-        """Parameters for the final time tf; e^{-z} expanded about z_lin (default: the
-        max-thrust mass profile of the papers)."""
+    def set_data(self, p: np.ndarray, tf: float, z_lin: np.ndarray | None = None,
+                 tau: np.ndarray | None = None) -> np.ndarray:
+        """Parameters for the final time tf on the mesh tau (default: equal steps); e^{-z}
+        expanded about z_lin (default: the max-thrust mass profile of the papers). Returns
+        the node times."""
         N, c = self.N, p[P_C]
-        h = tf / N
-        t = np.linspace(0.0, tf, N + 1)
+        t = tf * (np.linspace(0.0, 1.0, N + 1) if tau is None else np.asarray(tau, float))
+        h = np.diff(t)
         g = np.array([0.0, 0.0, -p[P_G]])
         m_wet = p[P_MWET]
         z_lo = np.log(np.maximum(m_wet - p[P_RHO2] * t / c, 1e-3))
         z_hi = np.log(np.maximum(m_wet - p[P_RHO1] * t / c, 1e-3))
         lin = z_lo if z_lin is None else np.clip(z_lin, z_lo, z_hi)
         self.r0.value, self.v0.value = p[0:3], p[3:6]
-        self.h.value, self.h2.value = h, h * h
-        self.gdt.value, self.gdt2.value = g * h, g * h * h / 2
+        self.half_h.value = np.repeat(h[:, None] / 2, 3, axis=1)
+        self.h2.value = np.repeat(h[:, None] ** 2, 3, axis=1)
+        self.gdt.value, self.gdt2.value = np.outer(h, g), np.outer(h * h / 2, g)
         self.alpha_h.value = h / (2 * c)
         self.z_lin.value = lin
         self.inv_mu1.value = np.exp(lin) / p[P_RHO1]
@@ -128,11 +139,13 @@ class DescentSOCP:
         self.tan_gs.value = p[P_TAN_GS]
         self.v_max.value = p[P_VMAX]
         self.cos_point.value = p[P_COS_POINT]
+        return t
 
     def solve(self, p: np.ndarray, tf: float, miss_bound: float = 0.0,
-              z_lin: np.ndarray | None = None, objective: str = "fuel") -> SOCPResult | None:
-        """The optimum at final time tf (None: infeasible at this tf)."""
-        self.set_data(p, tf, z_lin)
+              z_lin: np.ndarray | None = None, objective: str = "fuel",
+              tau: np.ndarray | None = None) -> SOCPResult | None:
+        """The optimum at final time tf on the mesh tau (None: infeasible at this tf)."""
+        t = self.set_data(p, tf, z_lin, tau)
         self.miss_bound.value = miss_bound
         problem = self.fuel_problem if objective == "fuel" else self.miss_problem
         try:
@@ -142,7 +155,7 @@ class DescentSOCP:
         if problem.status not in SOLVED:
             return None
         z = np.asarray(self.z.value)
-        return SOCPResult(tf, np.asarray(self.r.value), np.asarray(self.v.value), z,
+        return SOCPResult(tf, t, np.asarray(self.r.value), np.asarray(self.v.value), z,
                           np.asarray(self.u.value), np.asarray(self.sigma.value),
                           float(p[P_MWET] - np.exp(z[-1])),
                           float(np.linalg.norm(self.r.value[-1, :2])),
@@ -183,10 +196,12 @@ def _refine(f, a: float, b: float, tol: float, ctx: SolveContext | None) -> floa
 
 def solve_lossless(p: np.ndarray, n_intervals: int, objective: str = "fuel",
                    tf_hint: float | None = None, ctx: SolveContext | None = None,
-                   tf_tol: float = 0.1) -> LosslessResult:
+                   tf_tol: float = 0.1, switches_hint: Sequence[float] = ()
+                   ) -> LosslessResult:
     """Minimum fuel (objective "fuel") or minimum landing error ("landing-error") with free
-    final time; `tf_hint` (a previous optimum) narrows the search. Raises `Infeasible` naming
-    the bound when no final time admits a landing."""
+    final time; `tf_hint` (a previous optimum) narrows the search, and with its thrust
+    switches (`switches_hint`, s) the search runs on their mesh at once. Raises
+    `Infeasible` naming the bound when no final time admits a landing."""
     socp = descent_socp(n_intervals)
     t_lo, t_hi = flight_time_bounds(p)
     count = [0]
@@ -195,16 +210,20 @@ def solve_lossless(p: np.ndarray, n_intervals: int, objective: str = "fuel",
         if miss > REACHED:
             return _fuel_at_landing_error(socp, p, miss, tf_miss, count)
     cache: dict[float, SOCPResult | None] = {}
+    mesh = [_anchored(socp.N, switches_hint, tf_hint) if tf_hint and len(switches_hint)
+            else _equal]
 
     def fuel_at(tf: float) -> float:
         if tf not in cache:
             count[0] += 1
-            cache[tf] = socp.solve(p, tf)
+            cache[tf] = socp.solve(p, tf, tau=mesh[0](tf))
         res = cache[tf]
         return np.inf if res is None else res.fuel
 
     tf = _near_hint(fuel_at, t_lo, t_hi, tf_hint, tf_tol, ctx)
     if tf is None:
+        mesh[0] = _equal  # the whole range on one mesh: the hint's switches may not fit
+        cache.clear()
         try:
             a, b = _bracket(fuel_at, t_lo, t_hi, ctx)
         except _NoLanding:
@@ -219,6 +238,7 @@ def solve_lossless(p: np.ndarray, n_intervals: int, objective: str = "fuel",
     if fuel_at(tf) <= best.fuel:
         best = cache[tf]
     best, relin = _relinearise(socp, p, best, 0.0, count)
+    best, relin = _follow_switches(socp, p, best, 0.0, count, relin, tf_tol, ctx)
     return LosslessResult(best, count[0], relin, 0.0)
 
 
@@ -233,6 +253,7 @@ def _fuel_at_landing_error(socp: DescentSOCP, p: np.ndarray, miss: float, tf: fl
         raise Infeasible("the minimum-fuel landing at the least landing error failed: the "
                          "SOCP solver did not converge")
     best, relin = _relinearise(socp, p, best, bound, count)
+    best, relin = _follow_switches(socp, p, best, bound, count, relin, 0.1, None)
     return LosslessResult(best, count[0], relin, best.miss)
 
 
@@ -303,9 +324,10 @@ def _relinearise(socp: DescentSOCP, p: np.ndarray, best: SOCPResult, miss_bound:
                  ) -> tuple[SOCPResult, int]:
     """Expand e^{-z} about the last solution's z until z stops moving: the Taylor bounds then
     equal the exact thrust bounds at the answer."""
+    tau = best.t / best.tf
     for k in range(1, steps + 1):
         count[0] += 1
-        again = socp.solve(p, best.tf, miss_bound, z_lin=best.z)
+        again = socp.solve(p, best.tf, miss_bound, z_lin=best.z, tau=tau)
         if again is None:
             return best, k - 1
         moved = float(np.max(np.abs(again.z - best.z)))
@@ -313,3 +335,54 @@ def _relinearise(socp: DescentSOCP, p: np.ndarray, best: SOCPResult, miss_bound:
         if moved < tol:
             return best, k
     return best, steps
+
+
+def _equal(tf: float) -> None:
+    """The mesh of equal steps at any final time."""
+    return None
+
+
+def _anchored(n_intervals: int, switches: Sequence[float], ref: float
+              ) -> Callable[[float], np.ndarray | None]:
+    """The switch mesh for switches found at final time `ref`, as a function of t_f: a
+    switch in the first half of the flight keeps its time from the start, a later one its
+    time before touchdown. (With the mesh fixed in τ instead, only `ref` would have its
+    switches on their intervals, and a search over t_f could not leave it.)"""
+    def mesh(tf: float) -> np.ndarray | None:
+        return switch_mesh(n_intervals, [s / tf if s < ref / 2 else 1 - (ref - s) / tf
+                                         for s in switches])
+    return mesh
+
+
+def _follow_switches(socp: DescentSOCP, p: np.ndarray, best: SOCPResult, miss_bound: float,
+                     count: list[int], relinearisations: int, tf_tol: float,
+                     ctx: SolveContext | None, rounds: int = ROUNDS) -> tuple[SOCPResult, int]:
+    """Solve again on a mesh with a short interval at each thrust switch (`switch_mesh`),
+    the final time searched again near the last one, until every switch of the answer lies
+    in its interval: the fuel error falls several times (tests/missions/
+    test_powered_descent.py) where equal steps converge at order 1 to 2 in N."""
+    for _ in range(rounds):
+        switches = switch_times(best.t, best.sigma * np.exp(best.z), p[P_RHO1], p[P_RHO2])
+        mesh = _anchored(socp.N, switches, best.tf)
+        tau = mesh(best.tf)
+        if tau is None or np.allclose(tau, best.t / best.tf, rtol=0.0,
+                                      atol=SHORT / (2 * socp.N)):
+            break
+        cache: dict[float, SOCPResult | None] = {}
+
+        def fuel_at(tf: float, mesh=mesh, cache: dict = cache) -> float:
+            if tf not in cache:
+                tau = mesh(tf)
+                count[0] += 1
+                cache[tf] = None if tau is None else socp.solve(p, tf, miss_bound, tau=tau)
+            res = cache[tf]
+            return np.inf if res is None else res.fuel
+
+        tf = _refine(fuel_at, 0.98 * best.tf, 1.02 * best.tf, tf_tol, ctx)
+        found = [r for r in cache.values() if r is not None]
+        if not found:
+            break
+        again = cache[tf] if np.isfinite(fuel_at(tf)) else min(found, key=lambda r: r.fuel)
+        best, steps = _relinearise(socp, p, again, miss_bound, count)
+        relinearisations += steps
+    return best, relinearisations

@@ -11,8 +11,19 @@ from ...problem import Method, Param
 from ...solution import Quantity, Solution, WarmStart
 from ...verify import repropagate
 from .lossless import REACHED, LosslessResult, SOCPResult, solve_lossless
-from .model import CONTROL_UNITS, CONTROLS, P_C, P_G, P_MWET, P_RHO1, STATE_UNITS, STATES
+from .model import (
+    CONTROL_UNITS,
+    CONTROLS,
+    P_C,
+    P_G,
+    P_MWET,
+    P_RHO1,
+    P_RHO2,
+    STATE_UNITS,
+    STATES,
+)
 from .problem import ocp, touchdown_miss
+from .switch_mesh import switch_times
 
 OBJECTIVES = ("fuel", "landing-error")
 
@@ -53,17 +64,21 @@ def solve_method(values: dict[str, float], p: np.ndarray, nodes: int, warm: Solu
                  ctx: SolveContext) -> Solution:
     """The lossless SOCP; a previous lossless answer's final time narrows the search."""
     objective = OBJECTIVES[int(values["objective"])]
-    hint = None
+    hint, switches = None, []
     if warm is not None and warm.warm is not None and warm.warm.kind == "lossless":
-        hint = warm.warm.T
-    result = solve_lossless(p, nodes, objective, hint, ctx)
+        w = warm.warm
+        hint = w.T
+        if w.n_intervals == nodes:
+            switches = switch_times(w.tau * w.T, np.linalg.norm(w.U, axis=1), p[P_RHO1],
+                                    p[P_RHO2])
+    result = solve_lossless(p, nodes, objective, hint, ctx, switches_hint=switches)
     return _solution(values, p, nodes, result)
 
 
 def _solution(values: dict[str, float], p: np.ndarray, nodes: int, result: LosslessResult
               ) -> Solution:
     best = result.best
-    t_nodes = np.linspace(0.0, best.tf, nodes + 1)
+    t_nodes = best.t
     mass = np.exp(best.z)
     X = np.column_stack([best.r, best.v, best.z])
     U = best.u * mass[:, None]
@@ -111,11 +126,11 @@ def dense(best: SOCPResult, p: np.ndarray, per_interval: int = 10
     """The SOCP's own trajectory between nodes: u and σ linear, r and v exact, z by the
     same linear σ; thrust T = u e^z."""
     N = len(best.z) - 1
-    h = best.tf / N
     g = np.array([0.0, 0.0, -p[P_G]])
     s = np.linspace(0.0, 1.0, per_interval + 1)[:-1]
     ts, xs, us = [], [], []
     for k in range(N):
+        h = best.t[k + 1] - best.t[k]
         tau = (s * h)[:, None]
         du = (best.u[k + 1] - best.u[k]) / h
         v = best.v[k] + (g + best.u[k]) * tau + du * tau**2 / 2
@@ -123,7 +138,7 @@ def dense(best: SOCPResult, p: np.ndarray, per_interval: int = 10
         ds = (best.sigma[k + 1] - best.sigma[k]) / h
         z = best.z[k] - (best.sigma[k] * tau[:, 0] + ds * tau[:, 0] ** 2 / 2) / p[P_C]
         u = best.u[k] + du * tau
-        ts.append(k * h + s * h)
+        ts.append(best.t[k] + s * h)
         xs.append(np.column_stack([r, v, z]))
         us.append(u * np.exp(z)[:, None])
     last = np.concatenate([best.r[-1], best.v[-1], [best.z[-1]]])
@@ -134,7 +149,7 @@ def dense(best: SOCPResult, p: np.ndarray, per_interval: int = 10
 def _check(p: np.ndarray, best: SOCPResult) -> dict[str, float]:
     """Re-propagate the nonconvex dynamics (thrust T = u(t) m, u linear between nodes) with
     DOP853; the miss from the SOCP's own touchdown point."""
-    t_nodes = np.linspace(0.0, best.tf, len(best.z))
+    t_nodes = best.t
     fn = ocp().functions()
     x0 = np.asarray(fn.x0(p)).ravel()
 
