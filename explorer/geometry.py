@@ -32,6 +32,8 @@ PALETTE = ((255, 200, 0), (0, 200, 255), (150, 240, 80), (240, 90, 220), (255, 1
 GHOST = np.array([185, 205, 255])  # iterates fade from the background towards this
 BACKGROUNDS = {True: 8, False: 236}  # dark / light sky grey level
 ARROW_FRACTION = 0.08  # thrust arrow length as a fraction of the trajectory extent
+MAX_ARROWS = 120  # more nodes than this: every k-th thrust arrow (a fine mesh is a blur)
+MERGE_LABELS = 0.05  # markers closer than this fraction of the extent share one label
 _AXES = {"+x": (1, 0, 0), "-x": (-1, 0, 0), "+y": (0, 1, 0), "-y": (0, -1, 0),
          "+z": (0, 0, 1), "-z": (0, 0, -1)}
 
@@ -174,7 +176,8 @@ def build_geometry(pres: Presentation, t: np.ndarray, arcs: list[tuple[float, fl
     thrust = np.asarray(pres.thrust, float).reshape(-1, 3)
     arrows = np.zeros((0, 2, 3))
     if len(thrust) and len(thrust) == len(nodes):
-        on = np.linalg.norm(thrust, axis=1) > 1e-9
+        on = np.flatnonzero(np.linalg.norm(thrust, axis=1) > 1e-9)
+        on = on[::max(1, math.ceil(len(on) / MAX_ARROWS))]
         tips = nodes[on] + ARROW_FRACTION * extent * thrust[on]
         arrows = np.stack([nodes[on], tips], axis=1)
     curves, curve_colors, names = [], [], []
@@ -193,8 +196,8 @@ def build_geometry(pres: Presentation, t: np.ndarray, arcs: list[tuple[float, fl
             track = np.asarray(body.track, float) * scale
         spheres.append(Sphere(body.name, np.asarray(body.center, float) * scale, radius,
                               body.color, sphere_subdivisions(radius, 0.003 * extent), track))
-    markers = [(m.name, np.asarray(m.position, float) * scale, m.color, m.point, m.anchor)
-               for m in pres.markers]
+    markers = merge_close([(m.name, np.asarray(m.position, float) * scale, m.color, m.point,
+                            m.anchor) for m in pres.markers], MERGE_LABELS * extent)
     return Geometry(
         segments=segments, segment_colors=seg_colors, nodes=nodes, arrows=arrows,
         curve_segments=np.concatenate(curves) if curves else np.zeros((0, 2, 3)),
@@ -204,6 +207,35 @@ def build_geometry(pres: Presentation, t: np.ndarray, arcs: list[tuple[float, fl
         unit=pres.display_unit, curve_names=names, arrow_name=pres.arrow_name,
         arc_names=dict(pres.arc_names), plan=pres.plan,
     )
+
+
+def node_size(g: Geometry) -> float:
+    """Node points 0.6 % of the extent across, smaller where the nodes are closer than
+    that (a fine mesh would draw a solid band), never below 0.2 %."""
+    size = 0.006 * g.extent
+    if len(g.nodes) > 2:
+        spacing = float(np.median(np.linalg.norm(np.diff(g.nodes, axis=0), axis=1)))
+        size = min(size, max(0.6 * spacing, 0.002 * g.extent))
+    return size
+
+
+def merge_close(markers: list[tuple[str, np.ndarray, tuple[int, int, int], bool, str]],
+                distance: float) -> list[tuple[str, np.ndarray, tuple[int, int, int], bool, str]]:
+    """Marked points closer than `distance` to an earlier labelled one move their names into
+    its label ("launch … · arrival …") and keep their points: two labels at one spot would
+    cover each other. Labels alone (axis ticks) stay as they are."""
+    merged: list[tuple[str, np.ndarray, tuple[int, int, int], bool, str]] = []
+    for name, position, color, point, anchor in markers:
+        near = None if not point else next(
+            (i for i, m in enumerate(merged)
+             if m[0] and m[3] and np.linalg.norm(m[1] - position) < distance), None)
+        if near is not None and name:
+            first = merged[near]
+            merged[near] = (f"{first[0]} · {name}", *first[1:])
+            name = ""
+        if name or point:
+            merged.append((name, position, color, point, anchor))
+    return merged
 
 
 def path_segments(pres: Presentation, positions: np.ndarray | None = None) -> np.ndarray:

@@ -26,7 +26,7 @@ from solvers.handles import Handle, Sphere, values_at
 from solvers.presentation import Presentation
 from solvers.problem import Param
 
-from .geometry import Geometry
+from .geometry import MERGE_LABELS, Geometry
 from .panels.setup import Controls
 from .panels.value_input import display_unit, to_display
 from .requests import Request
@@ -131,6 +131,18 @@ class Handles:
                 if drawn.gizmo.scale != self._size and not drawn.dragging:
                     drawn.gizmo.scale = self._size
             self._sync(self.session.values)
+
+    def unlabel_markers(self, geometry: Geometry) -> None:
+        """A marked point where a shown handle stands keeps its point, not its label: the
+        handle's label says the same with its values ("chaser start" under "chaser start
+        (15, -0.5, 0) km" would cover it)."""
+        spots = [np.asarray(d.gizmo.position, float) for d in self._drawn.values()
+                 if d.gizmo.visible]
+        near = MERGE_LABELS * geometry.extent
+        geometry.markers = [
+            ("" if point and any(np.linalg.norm(position - s) < near for s in spots) else name,
+             position, color, point, anchor)
+            for name, position, color, point, anchor in geometry.markers]
 
     def clear(self) -> None:
         """Remove every handle (another mission)."""

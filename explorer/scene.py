@@ -23,7 +23,7 @@ import numpy as np
 import viser
 
 from .camera import scale_bar
-from .geometry import ARROW, BACKGROUNDS, NODE, NODE_LIGHT, Geometry, line_colors
+from .geometry import ARROW, BACKGROUNDS, NODE, NODE_LIGHT, Geometry, line_colors, node_size
 from .player import Pose
 
 VEHICLE_FRACTION = 0.035  # vehicle length as a fraction of the trajectory extent
@@ -67,7 +67,7 @@ class SceneView:
         self._vehicle_name: str | None = None
         self._vehicle_size = 1.0
         self._moving: list[tuple[viser.SceneNodeHandle, np.ndarray, np.ndarray]] = []
-        self._markers: list[tuple[Any | None, Any]] = []
+        self._markers: list[tuple[Any | None, Any | None]] = []
         self._marker_names: list[tuple[str, bool, str]] = []
         self._names: dict[str, int] = {}  # times each node name was used
         self.updates = 0  # in-place updates sent (a test counts them)
@@ -93,7 +93,8 @@ class SceneView:
     def node_count(self) -> int:
         """Scene nodes this view holds (constant over re-solves: nothing accumulates)."""
         return (len(self._context) + len(self._solution) + len(self._layers)
-                + len(self._vehicle) + sum(1 + (p is not None) for p, _ in self._markers))
+                + len(self._vehicle) + sum((p is not None) + (lab is not None)
+                                           for p, lab in self._markers))
 
     def draw(self, g: Geometry) -> None:
         """Show `g`: the context if it changed, then path, nodes and arrows in place."""
@@ -101,7 +102,7 @@ class SceneView:
         size = 0.006 * g.extent  # world units: node points and arrows scale with the view
         self._segments(f"{self.root}/trajectory", self._solution, g.segments, g.segment_colors,
                        4.0)
-        self._points(f"{self.root}/nodes", g.nodes, size)
+        self._points(f"{self.root}/nodes", g.nodes, node_size(g))
         self._arrows(f"{self.root}/thrust", g.arrows, size)
         self._scale_bar(g)
 
@@ -320,10 +321,8 @@ class SceneView:
         moved in place, each label with its point."""
         kinds = [(m[0], m[3], m[4]) for m in g.markers]
         if kinds != self._marker_names:
-            for point, label in self._markers:
-                if point is not None:
-                    point.remove()
-                label.remove()
+            for handle in (h for pair in self._markers for h in pair if h is not None):
+                handle.remove()
             self._markers = [self._add_marker(i, marker, g.extent)
                              for i, marker in enumerate(g.markers)]
             self._marker_names = kinds
@@ -333,16 +332,19 @@ class SceneView:
             if point is not None:
                 point.points = position[None].astype(np.float32)
                 point.point_size = 0.015 * g.extent
-            label.position = tuple(position)
+            if label is not None:
+                label.position = tuple(position)
 
-    def _add_marker(self, i: int, marker: tuple, extent: float) -> tuple[Any | None, Any]:
+    def _add_marker(self, i: int, marker: tuple, extent: float
+                    ) -> tuple[Any | None, Any | None]:
+        """A marker's point (if it has one) and label (if it has a name)."""
         name, position, color, has_point, anchor = marker
         point = None
         if has_point:
             point = self.scene.add_point_cloud(
                 self._name(f"{self.root}/markers/{i}"), position[None].astype(np.float32),
                 color, point_size=0.015 * extent, point_shape="circle", precision="float32")
-        label = self.scene.add_label(self._name(f"{self.root}/labels/{i}"), name,
-                                     position=tuple(position), font_screen_scale=0.8,
-                                     anchor=anchor)
+        label = None if not name else self.scene.add_label(
+            self._name(f"{self.root}/labels/{i}"), name, position=tuple(position),
+            font_screen_scale=0.8, anchor=anchor)
         return point, label

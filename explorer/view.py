@@ -321,9 +321,10 @@ class View:
         with self._lock, self.atomic():
             self._shown = (sol, pres, dim)
             self._drawn = _signature(pres, sol)
+            self.handles.place(pres, geometry)
+            self.handles.unlabel_markers(geometry)
             self.scene.draw(geometry)
             self._geometry = geometry
-            self.handles.place(pres, geometry)
             if not dim:
                 self._new_track(sol, pres, geometry)
             self.side.show_figure(figure, self.play.t * pres.time_scale

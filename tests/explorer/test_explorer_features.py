@@ -329,3 +329,34 @@ def test_every_mission_and_method_equation_renders_as_mathml():
         for caption, latex in mission.equations + tuple(
                 eq for m in mission.methods for eq in m.equations):
             assert mathml(latex).startswith("<math"), f"{mission.key}: {caption}"
+
+
+def test_a_fine_mesh_keeps_its_path_readable():
+    """400 nodes on one loop: the node points shrink below their spacing instead of merging
+    into a band, and at most MAX_ARROWS thrust arrows are drawn (every k-th node)."""
+    from explorer.geometry import MAX_ARROWS, node_size
+
+    angle = np.linspace(0.0, 2 * np.pi, 401)
+    ring = np.column_stack([np.cos(angle), np.sin(angle), 0 * angle])
+    pres = Presentation("inertial", ring, nodes=ring, thrust=np.tile([0.0, 0.0, 1.0], (401, 1)))
+    g = build_geometry(pres, angle, [])
+    spacing = 2 * np.pi / 400
+    assert node_size(g) < spacing < 0.006 * g.extent
+    assert len(g.arrows) <= MAX_ARROWS and len(g.arrows) > MAX_ARROWS / 2
+    coarse = Presentation("inertial", ring, nodes=ring[::40])
+    assert node_size(build_geometry(coarse, angle, [])) == pytest.approx(
+        0.006 * build_geometry(coarse, angle, []).extent)
+
+
+def test_marked_points_at_one_spot_share_one_label():
+    """The asteroid's launch (at Earth) and arrival a year later lie close together: one
+    label names both, both points stay; a distant marker and an axis tick keep theirs."""
+    path = np.array([[0.0, 0.0, 0.0], [100.0, 0.0, 0.0]])
+    pres = Presentation("inertial", path, markers=[
+        Marker("launch 2022-11-30", (0.0, 0.0, 0.0)),
+        Marker("arrival 2023-11-29", (1.0, 0.0, 0.0)),
+        Marker("tick", (1.0, 0.5, 0.0), point=False),
+        Marker("far", (100.0, 0.0, 0.0))])
+    names = [(m[0], m[3]) for m in build_geometry(pres, np.arange(2.0), []).markers]
+    assert names == [("launch 2022-11-30 · arrival 2023-11-29", True), ("", True),
+                     ("tick", False), ("far", True)]

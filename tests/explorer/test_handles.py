@@ -113,6 +113,17 @@ def test_dragging_the_carts_target_sets_the_distance_the_slider_and_a_new_optimu
     assert view.session.latest.cost.value == pytest.approx(20.0, rel=2e-3)  # 2 sqrt(100)
 
 
+def test_a_marked_point_under_a_handle_leaves_the_label_to_the_handle(live):
+    """CW: "chaser start" under "chaser start (15, -0.5, 0) km" covered it; the point stays,
+    the handle's label names it; the target far away keeps its own label."""
+    view = live(get_mission("cw-rendezvous"))
+    start = np.asarray(view.handles.drawn["start"].gizmo.position)
+    markers = {m[0]: m for m in view.geometry.markers}
+    assert "" in markers and markers[""][3]  # a point without a label
+    assert np.linalg.norm(markers[""][1] - start) < 0.05 * view.geometry.extent
+    assert "target" in markers and not any("chaser start" in name for name in markers)
+
+
 def test_the_keep_out_sphere_drags_and_the_path_bends_around_it(live):
     from solvers.mission_file import load_mission_file
 
