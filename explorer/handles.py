@@ -48,6 +48,7 @@ class _Drawn:
     label: viser.LabelHandle
     shape: Sphere | None = None
     mesh: Any = None
+    shaft: Any = None  # an arrow's line from its tail to the gizmo
     held: tuple[str, ...] = ()
     in_hand: bool = False
     last_event: float = 0.0
@@ -132,10 +133,11 @@ class Handles:
                     drawn.gizmo.scale = self._size
             self._sync(self.session.values)
 
-    def unlabel_markers(self, geometry: Geometry) -> None:
+    def annotate(self, geometry: Geometry) -> None:
         """A marked point where a shown handle stands keeps its point, not its label: the
         handle's label says the same with its values ("chaser start" under "chaser start
-        (15, -0.5, 0) km" would cover it)."""
+        (15, -0.5, 0) km" would cover it). Every shown handle joins the markers as a bare
+        position, so the camera frames it too (a velocity arrow's tip beyond the path)."""
         spots = [np.asarray(d.gizmo.position, float) for d in self._drawn.values()
                  if d.gizmo.visible]
         near = MERGE_LABELS * geometry.extent
@@ -143,12 +145,15 @@ class Handles:
             ("" if point and any(np.linalg.norm(position - s) < near for s in spots) else name,
              position, color, point, anchor)
             for name, position, color, point, anchor in geometry.markers]
+        geometry.markers += [("", spot, palette.LABEL, False, "top-left") for spot in spots]
 
     def clear(self) -> None:
         """Remove every handle (another mission)."""
         with self._lock:
             for drawn in self._drawn.values():
                 drawn.gizmo.remove()  # takes its label and mesh with it
+                if drawn.shaft is not None:
+                    drawn.shaft.remove()
             self._drawn.clear()
             self._mission = ""
 
@@ -172,10 +177,15 @@ class Handles:
         gizmo = self.scene.add_transform_controls(
             name, scale=self._size, active_axes=handle.active_axes, disable_rotations=True,
             depth_test=False, line_width=3.0)
-        # Below and left of the point: the gizmo's arrows point up and right, free to grab.
+        # Below and left of the point: the gizmo's arrows point up and right, free to grab;
+        # an arrow's tip above and right (below and left is towards its tail's label).
         label = self.scene.add_label(f"{name}/label", handle.label, font_screen_scale=0.8,
-                                     anchor="top-right")
+                                     anchor="bottom-left" if handle.is_arrow else "top-right")
         drawn = _Drawn(handle, gizmo, label, shape)
+        if handle.is_arrow:  # not under the gizmo: the tail stays while the tip moves
+            drawn.shaft = self.scene.add_line_segments(
+                f"{name}_shaft", np.zeros((1, 2, 3), np.float32), palette.LABEL,
+                line_width=3.0)
         if shape is not None:
             drawn.mesh = self.scene.add_icosphere(
                 f"{name}/shape", 1.0, palette.BOUND, subdivisions=3, opacity=0.35,
@@ -192,6 +202,9 @@ class Handles:
                 continue
             if not drawn.dragging:
                 drawn.gizmo.position = tuple(self._scale * np.array(h.where(values, view)))
+            if drawn.shaft is not None:
+                drawn.shaft.points = np.array([[self._scale * np.array(h.tail(values, view)),
+                                                drawn.gizmo.position]], np.float32)
             drawn.label.text = describe(h, values, params, drawn.held)
             if drawn.shape is not None:
                 drawn.mesh.radius = self._scale * drawn.shape.size(values, view)
@@ -210,7 +223,7 @@ class Handles:
             drawn.in_hand, drawn.last_event = phase != "end", time.monotonic()
             position = np.array(drawn.gizmo.position, float) / self._scale
             moved = values_at(drawn.handle, position, tuple(self._params().values()),
-                              self.session.view)
+                              self.session.view, self.session.values)
             drawn.held = moved.held
             self.moves += 1
         try:

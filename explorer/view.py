@@ -322,7 +322,7 @@ class View:
             self._shown = (sol, pres, dim)
             self._drawn = _signature(pres, sol)
             self.handles.place(pres, geometry)
-            self.handles.unlabel_markers(geometry)
+            self.handles.annotate(geometry)
             self.scene.draw(geometry)
             self._geometry = geometry
             if not dim:

@@ -1,11 +1,13 @@
 """Things a person drags in the 3D view, bound to parameters: `Handle` (a point: a start, a
-target) and `Sphere` (a keep-out zone whose centre and radius are parameters).
+target; or an arrow's tip: a velocity) and `Sphere` (a keep-out zone whose centre and radius
+are parameters).
 
 A coordinate of the display frame is either fixed (a number, metres) or an `Axis`: an
 affine function of one parameter, display metres = offset + scale × value (× a view option,
-e.g. an altitude exaggeration). Dragging moves only the bound axes (the others are locked)
-and the inverse of that function gives the new values, clamped to the parameters' ranges.
-Everything here is SI and pure numerics: the explorer draws and drags
+e.g. an altitude exaggeration), plus, for an arrow's tip, the value of its `base` parameter
+(the tail: a velocity's tip at start + scale × v). Dragging moves only the bound axes (the
+others are locked) and the inverse of that function gives the new values, clamped to the
+parameters' ranges. Everything here is SI and pure numerics: the explorer draws and drags
 (`explorer/handles.py`).
 """
 
@@ -26,6 +28,7 @@ class Axis:
     scale: float = 1.0
     offset: float = 0.0
     view: str | None = None
+    base: str | None = None  # a parameter (metres) the coordinate starts from: a tail
 
     def __post_init__(self) -> None:
         if self.scale == 0:
@@ -35,12 +38,17 @@ class Axis:
         """Display metres per SI unit of the parameter in these view options."""
         return self.scale * (float(view[self.view]) if self.view is not None else 1.0)
 
-    def where(self, values: Mapping[str, float], view: Mapping[str, float]) -> float:
-        return self.offset + self.factor(view) * float(values[self.param])
+    def tail(self, values: Mapping[str, float]) -> float:
+        """The coordinate at a zero value: the offset, plus the base parameter's value."""
+        return self.offset + (float(values[self.base]) if self.base is not None else 0.0)
 
-    def value_at(self, coordinate: float, view: Mapping[str, float]) -> float:
+    def where(self, values: Mapping[str, float], view: Mapping[str, float]) -> float:
+        return self.tail(values) + self.factor(view) * float(values[self.param])
+
+    def value_at(self, coordinate: float, view: Mapping[str, float],
+                 values: Mapping[str, float]) -> float:
         """The parameter value that puts this coordinate at `coordinate` (unclamped)."""
-        return (coordinate - self.offset) / self.factor(view)
+        return (coordinate - self.tail(values)) / self.factor(view)
 
 
 Coordinate = float | str | Axis  # a str is Axis(str): the parameter's value in metres
@@ -94,6 +102,17 @@ class Handle:
         """Display-frame position (metres) for these values and view options."""
         return tuple(_where(c, values, view) for c in self.position)
 
+    @property
+    def is_arrow(self) -> bool:
+        """An arrow's tip: some axis starts from a base parameter."""
+        return any(axis is not None and axis.base is not None for axis in self.axes)
+
+    def tail(self, values: Mapping[str, float], view: Mapping[str, float]
+             ) -> tuple[float, ...]:
+        """Where an arrow starts (metres): every bound value at zero."""
+        return tuple(float(c) if axis is None else axis.tail(values)  # type: ignore[arg-type]
+                     for c, axis in zip(self.position, self.axes, strict=True))
+
 
 @dataclass(frozen=True)
 class Sphere:
@@ -125,10 +144,10 @@ class Moved:
 
 
 def values_at(handle: Handle, position: Sequence[float], params: Sequence[Param],
-              view: Mapping[str, float]) -> Moved:
+              view: Mapping[str, float], current: Mapping[str, float] | None = None) -> Moved:
     """The parameter values that put `handle` at display `position` (metres): each bound
     axis inverted, clamped to its parameter's [min, max] (as a slider stops at its ends),
-    whole numbers rounded. Locked axes are ignored."""
+    whole numbers rounded. Locked axes are ignored; an arrow's tail comes from `current`."""
     by_key = {p.key: p for p in params}
     values: dict[str, float] = {}
     held: list[str] = []
@@ -136,7 +155,7 @@ def values_at(handle: Handle, position: Sequence[float], params: Sequence[Param]
         if axis is None:
             continue
         p = by_key[axis.param]
-        raw = axis.value_at(float(coordinate), view)
+        raw = axis.value_at(float(coordinate), view, current or {})
         value = min(max(raw, p.min), p.max)
         if p.integer:
             value = float(round(value))
@@ -157,9 +176,11 @@ def check_bindings(handles: Sequence[Handle], params: Sequence[Param],
             if axis is None:
                 continue
             p = by_key.get(axis.param)
-            if p is None or p.is_choice:
-                raise ValueError(f"handle '{h.key}': '{axis.param}' is not a numeric "
-                                 f"parameter (known: {', '.join(sorted(by_key))})")
+            for key in (axis.param, axis.base):
+                q = by_key.get(key) if key is not None else p
+                if q is None or q.is_choice:
+                    raise ValueError(f"handle '{h.key}': '{key}' is not a numeric "
+                                     f"parameter (known: {', '.join(sorted(by_key))})")
             if axis.view is not None and axis.view not in views:
                 raise ValueError(f"handle '{h.key}': '{axis.view}' is not a view option")
         for key in h.views:

@@ -26,7 +26,7 @@ def test_every_missions_handles_bind_numeric_parameters():
                        m.view_params)
         declared[m.key] = {p for h in m.handles for p in h.params}
     assert declared["cw-rendezvous"] == {"x0", "y0", "z0"}
-    assert declared["hovercraft"] == {"x0", "y0", "xf", "yf"}
+    assert declared["hovercraft"] == {"x0", "y0", "xf", "yf", "vx0", "vy0", "vxf", "vyf"}
     assert declared["bang-bang"] == {"distance"}
     assert declared["lunar-landing"] == {"altitude0"}
     assert declared["apollo-reentry"] == {"h0"}
@@ -55,6 +55,20 @@ def test_a_position_inverts_to_values_locked_axes_ignored_and_clamped_at_the_ran
     assert held.values == {"h0": 180e3} and held.held == ("h0",)  # 200 km > the range
     assert values_at(Handle("a", "a", (Axis("distance", scale=2.0), 0.0, 0.0)), (3.0, 0, 0),
                      get_mission("bang-bang").params, {}).values == {"distance": 1.5}
+
+
+def test_a_velocity_arrows_tip_starts_at_its_point_and_inverts_to_the_velocity():
+    """Hovercraft: the start velocity's tip sits at start + 0.2 s × v; dragged, it sets the
+    velocity from the start where it is now, clamped at the range (vx0 >= 0)."""
+    hover = get_mission("hovercraft")
+    arrow = next(h for h in hover.handles if h.key == "start_velocity")
+    values = hover.defaults() | {"x0": 2.0, "y0": 1.0, "vx0": 5.0, "vy0": -1.0}
+    assert arrow.is_arrow and arrow.tail(values, {}) == (2.0, 1.0, 0.0)
+    assert arrow.where(values, {}) == pytest.approx((3.0, 0.8, 0.0))
+    moved = values_at(arrow, (3.6, 1.4, 7.0), hover.params, {}, values)
+    assert moved.values == {"vx0": pytest.approx(8.0), "vy0": pytest.approx(2.0)}
+    back = values_at(arrow, (0.0, 1.0, 0.0), hover.params, {}, values)
+    assert back.values["vx0"] == 0.0 and back.held == ("vx0",)
 
 
 @pytest.fixture()
@@ -118,10 +132,25 @@ def test_a_marked_point_under_a_handle_leaves_the_label_to_the_handle(live):
     the handle's label names it; the target far away keeps its own label."""
     view = live(get_mission("cw-rendezvous"))
     start = np.asarray(view.handles.drawn["start"].gizmo.position)
-    markers = {m[0]: m for m in view.geometry.markers}
-    assert "" in markers and markers[""][3]  # a point without a label
-    assert np.linalg.norm(markers[""][1] - start) < 0.05 * view.geometry.extent
-    assert "target" in markers and not any("chaser start" in name for name in markers)
+    markers = view.geometry.markers
+    bare = [m for m in markers if not m[0] and m[3]]  # points without a label
+    assert len(bare) == 1 and np.linalg.norm(bare[0][1] - start) < 0.05 * view.geometry.extent
+    names = [m[0] for m in markers]
+    assert "target" in names and not any("chaser start" in name for name in names)
+
+
+def test_dragging_the_start_velocitys_tip_sets_the_velocity_and_a_new_optimum(live):
+    view = live(get_mission("hovercraft"))
+    drawn = view.handles.drawn["start_velocity"]
+    assert drawn.shaft is not None and tuple(drawn.gizmo.active_axes) == (True, True, False)
+    assert np.allclose(drawn.gizmo.position, (1.0, 0.0, 0.0))  # 0.2 s × (5, 0) m/s
+    _drag(view, "start_velocity", [(0.9, 0.1, 0.0), (0.8, 0.2, 0.0)])
+    values = view.session.values
+    assert (values["vx0"], values["vy0"]) == (pytest.approx(4.0), pytest.approx(1.0))
+    sol = view.session.latest
+    assert sol.converged, sol.message
+    assert sol.node_x[0, 2:4] == pytest.approx([4.0, 1.0])
+    assert np.allclose(drawn.shaft.points[0], [(0.0, 0.0, 0.0), (0.8, 0.2, 0.0)])
 
 
 def test_the_keep_out_sphere_drags_and_the_path_bends_around_it(live):

@@ -9,7 +9,7 @@ import casadi as ca
 import numpy as np
 
 from ...context import Infeasible
-from ...handles import Handle
+from ...handles import Axis, Handle
 from ...ocp import OCP, Bounds, Guess
 from ...optimality import PMP_TRAJECTORY
 from ...problem import Consistency, Param, Preset, Published
@@ -52,10 +52,16 @@ PARAMS = (
                "(LGL keeps the thrust vector)."),
 )
 
-# Dragged in the 3D view (ground plane, metres): the start and the target.
+# Dragged in the 3D view (ground plane, metres): the start and the target, and the tips of
+# their velocity arrows (ARROW_S metres of arrow per m/s, from the point they start at).
+ARROW_S = 0.2
 HANDLES = (
     Handle("start", "start", ("x0", "y0", 0.0)),
     Handle("target", "target", ("xf", "yf", 0.0)),
+    Handle("start_velocity", "start velocity", (Axis("vx0", ARROW_S, base="x0"),
+                                                Axis("vy0", ARROW_S, base="y0"), 0.0)),
+    Handle("target_velocity", "target velocity", (Axis("vxf", ARROW_S, base="xf"),
+                                                  Axis("vyf", ARROW_S, base="yf"), 0.0)),
 )
 
 _EXAMPLE_1 = "paper 004, example 1"
