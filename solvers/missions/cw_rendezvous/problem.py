@@ -19,7 +19,7 @@ from ...dynamics.clohessy_wiltshire import (
     mean_motion,
     nonlinear_relative_miss,
 )
-from ...handles import Handle
+from ...handles import Axis, Handle
 from ...ocp import OCP, Bounds, Guess
 from ...optimality import PMP_COSTATES, PMP_TRAJECTORY, record_costate_error
 from ...problem import Consistency, Param, Preset, Published
@@ -63,9 +63,17 @@ VIEW_PARAMS = (
           group="Display", help="Inertial view: relative motion drawn this many times larger."),
 )
 
-# Dragged in the 3D view: the chaser's start, in the target orbital frame (metres; the
-# magnified inertial view has no handle: its axes turn with the orbit).
-HANDLES = (Handle("start", "chaser start", ("x0", "y0", "z0"), views={"view": 0}),)
+# Dragged in the 3D view: the chaser's start and the tip of its velocity arrow (20 m of
+# arrow per m/s), in the target orbital frame (metres; the magnified inertial view has no
+# handle: its axes turn with the orbit).
+ARROW_S = 20.0
+HANDLES = (
+    Handle("start", "chaser start", ("x0", "y0", "z0"), views={"view": 0}),
+    Handle("start_velocity", "start velocity", (Axis("vx0", ARROW_S, base="x0"),
+                                                Axis("vy0", ARROW_S, base="y0"),
+                                                Axis("vz0", ARROW_S, base="z0")),
+           views={"view": 0}),
+)
 
 _SIZE = "paper 000, section 3 (coplanar case, 2 burns × 12 sub-intervals, 26 nodes)"
 PUBLISHED = (
