@@ -297,5 +297,6 @@ class TimeLimitField:
             self.box.value = self.text(self.seconds)
             return
         self.seconds = seconds
-        self.box.value = self.text(seconds)
+        if str(self.box.value) == text:  # not over a newer entry typed meanwhile
+            self.box.value = self.text(seconds)
         self.apply(seconds)
