@@ -60,6 +60,7 @@ class SceneView:
         self.scene = scene
         self.root = root
         self._context_key: bytes | None = None
+        self._context_shape: tuple | None = None
         self._context: list[viser.SceneNodeHandle] = []
         self._solution: dict[str, Any] = {}
         self._layers: dict[str, Any] = {}
@@ -287,39 +288,62 @@ class SceneView:
             handle.remove()
         self.remove_vehicle()
         self._context, self._solution, self._layers, self._context_key = [], {}, {}, None
+        self._context_shape = None
         self._moving, self._markers, self._marker_names = [], [], []
 
     def _draw_context(self, g: Geometry) -> None:
-        """Bodies and reference curves, re-sent only when they changed; markers moved in
-        place (a landing site follows the path without re-sending the Moon)."""
+        """Bodies and reference curves, re-sent only when they changed, and then in place
+        when only positions moved (the asteroid's bodies and orbits follow the launch date:
+        a position and a line's points, not a new sphere); markers moved in place."""
         key = repr([(s.name, s.center.tolist(), s.radius, s.color, s.subdivisions)
                     for s in g.spheres]).encode()
-        key += g.curve_segments.tobytes()
+        key += g.curve_segments.tobytes() + g.curve_colors.tobytes()
         key += b"".join(s.track.tobytes() for s in g.spheres if s.track is not None)
-        if key != self._context_key:
-            for handle in self._context:
-                handle.remove()
-            self._context, self._moving = [], []
-            add = self._context.append
-            for s in g.spheres:
-                add(self.scene.add_icosphere(self._name(f"{self.root}/bodies/{s.name}"),
-                                             s.radius, s.color,
-                                             subdivisions=s.subdivisions, position=s.center,
-                                             cast_shadow=False, receive_shadow=False))
-                if s.track is not None:
-                    self._moving.append((self._context[-1], g.times, s.track))
-            if len(g.curve_segments):
-                add(self.scene.add_line_segments(self._name(f"{self.root}/curves"),
-                                                 g.curve_segments.astype(np.float32),
-                                                 line_colors(g.curve_colors),
-                                                 thickness=1.5, thickness_units="screen"))
-            self._context_key = key
+        if key == self._context_key:
+            self._draw_markers(g)
+            return
+        shape = _context_shape(g)
+        if shape == self._context_shape and not any(_removed(h) for h in self._context):
+            self._move_context(g)
+        else:
+            self._add_context(g)
+        self._context_key, self._context_shape = key, shape
         self._draw_markers(g)
 
+    def _add_context(self, g: Geometry) -> None:
+        for handle in self._context:
+            handle.remove()
+        self._context, self._moving = [], []
+        add = self._context.append
+        for s in g.spheres:
+            add(self.scene.add_icosphere(self._name(f"{self.root}/bodies/{s.name}"),
+                                         s.radius, s.color,
+                                         subdivisions=s.subdivisions, position=s.center,
+                                         cast_shadow=False, receive_shadow=False))
+            if s.track is not None:
+                self._moving.append((self._context[-1], g.times, s.track))
+        if len(g.curve_segments):
+            add(self.scene.add_line_segments(self._name(f"{self.root}/curves"),
+                                             g.curve_segments.astype(np.float32),
+                                             line_colors(g.curve_colors),
+                                             thickness=1.5, thickness_units="screen"))
+
+    def _move_context(self, g: Geometry) -> None:
+        """Same bodies and curve count as on screen: move them in place."""
+        self._moving = []
+        for handle, s in zip(self._context, g.spheres, strict=False):
+            handle.position = tuple(s.center)
+            if s.track is not None:
+                self._moving.append((handle, g.times, s.track))
+        if len(g.curve_segments):
+            curves = self._context[-1]
+            curves.points = g.curve_segments.astype(np.float32)
+            curves.colors = line_colors(g.curve_colors)
+
     def _draw_markers(self, g: Geometry) -> None:
-        """Marker points and labels: made again when their names (or kinds) change, else
-        moved in place, each label with its point."""
-        kinds = [(m[0], m[3], m[4]) for m in g.markers]
+        """Marker points and labels: made again when their kinds change, else moved in
+        place, each label with its point (and its text, when only that changed)."""
+        kinds = [(bool(m[0]), m[3], m[4]) for m in g.markers]
         if kinds != self._marker_names:
             for handle in (h for pair in self._markers for h in pair if h is not None):
                 handle.remove()
@@ -327,13 +351,15 @@ class SceneView:
                              for i, marker in enumerate(g.markers)]
             self._marker_names = kinds
             return
-        for (point, label), (_, position, _, _, _) in zip(self._markers, g.markers,
-                                                          strict=True):
+        for (point, label), (name, position, _, _, _) in zip(self._markers, g.markers,
+                                                             strict=True):
             if point is not None:
                 point.points = position[None].astype(np.float32)
                 point.point_size = 0.015 * g.extent
             if label is not None:
                 label.position = tuple(position)
+                if label.text != name:
+                    label.text = name
 
     def _add_marker(self, i: int, marker: tuple, extent: float
                     ) -> tuple[Any | None, Any | None]:
@@ -348,3 +374,10 @@ class SceneView:
             self._name(f"{self.root}/labels/{i}"), name, position=tuple(position),
             font_screen_scale=0.8, anchor=anchor)
         return point, label
+
+
+def _context_shape(g: Geometry) -> tuple:
+    """What of the bodies and curves only new scene nodes can show: which bodies (name,
+    size, colour, mesh), and whether there are curves and how many."""
+    return (tuple((s.name, s.radius, s.color, s.subdivisions) for s in g.spheres),
+            g.curve_segments.shape)
