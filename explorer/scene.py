@@ -69,7 +69,7 @@ class SceneView:
         self._vehicle_size = 1.0
         self._moving: list[tuple[viser.SceneNodeHandle, np.ndarray, np.ndarray]] = []
         self._markers: list[tuple[Any | None, Any | None]] = []
-        self._marker_names: list[tuple[str, bool, str]] = []
+        self._marker_kinds: list[tuple[str, bool, str]] = []
         self._names: dict[str, int] = {}  # times each node name was used
         self.updates = 0  # in-place updates sent (a test counts them)
         scene.configure_environment_map(None)
@@ -289,7 +289,7 @@ class SceneView:
         self.remove_vehicle()
         self._context, self._solution, self._layers, self._context_key = [], {}, {}, None
         self._context_shape = None
-        self._moving, self._markers, self._marker_names = [], [], []
+        self._moving, self._markers, self._marker_kinds = [], [], []
 
     def _draw_context(self, g: Geometry) -> None:
         """Bodies and reference curves, re-sent only when they changed, and then in place
@@ -311,6 +311,7 @@ class SceneView:
         self._draw_markers(g)
 
     def _add_context(self, g: Geometry) -> None:
+        """New bodies and curves (their set or look changed): remove the old nodes."""
         for handle in self._context:
             handle.remove()
         self._context, self._moving = [], []
@@ -331,7 +332,7 @@ class SceneView:
     def _move_context(self, g: Geometry) -> None:
         """Same bodies and curve count as on screen: move them in place."""
         self._moving = []
-        for handle, s in zip(self._context, g.spheres, strict=False):
+        for handle, s in zip(self._context[:len(g.spheres)], g.spheres, strict=True):
             handle.position = tuple(s.center)
             if s.track is not None:
                 self._moving.append((handle, g.times, s.track))
@@ -344,12 +345,12 @@ class SceneView:
         """Marker points and labels: made again when their kinds change, else moved in
         place, each label with its point (and its text, when only that changed)."""
         kinds = [(bool(m[0]), m[3], m[4]) for m in g.markers]
-        if kinds != self._marker_names:
+        if kinds != self._marker_kinds:
             for handle in (h for pair in self._markers for h in pair if h is not None):
                 handle.remove()
             self._markers = [self._add_marker(i, marker, g.extent)
                              for i, marker in enumerate(g.markers)]
-            self._marker_names = kinds
+            self._marker_kinds = kinds
             return
         for (point, label), (name, position, _, _, _) in zip(self._markers, g.markers,
                                                              strict=True):
