@@ -32,6 +32,9 @@ SUN_RADIUS_DRAWN = 0.03 * AU  # ~6.5 solar radii: enlarged so the Sun is visible
 PLANET_RADIUS_DRAWN = 0.008 * AU  # Earth and asteroid drawn ~190x Earth's radius
 EARTH = "Earth (enlarged)"
 ASTEROID = "Kamoʻoalewa (enlarged)"
+# Launch and arrival closer than this share one label: a date label is about a quarter of
+# the 2 AU picture long in the default framing.
+ONE_LABEL = 0.5 * AU
 
 
 def present(sol: Solution, view: Mapping[str, float]) -> Presentation:
@@ -97,10 +100,17 @@ def orbits(launch_mjd: float, elements: int) -> list[Curve]:
 def date_markers(sol: Solution, tracks: Mapping[str, np.ndarray], launch: float,
                  arrival: float) -> list[Marker]:
     """Launch (at Earth) and arrival (at the asteroid) labelled with their dates, and the
-    impulsive method's mid-course impulses."""
-    markers = [Marker(f"launch {iso_from_mjd(launch)}", tuple(tracks["Earth"][0]), palette.START),
-               Marker(f"arrival {iso_from_mjd(arrival)}", tuple(tracks["Kamoʻoalewa"][-1]),
-                      palette.TARGET, anchor="top-left")]  # below: a year on, Earth is close
+    impulsive method's mid-course impulses. Kamoʻoalewa is Earth's quasi-satellite, so a
+    year's flight ends close to where it began: closer than a label's length, the two
+    dates share one label at the launch point (two labels there cover each other)."""
+    at_launch, at_arrival = tracks["Earth"][0], tracks["Kamoʻoalewa"][-1]
+    launch_text, arrival_text = f"launch {iso_from_mjd(launch)}", f"arrival {iso_from_mjd(arrival)}"
+    if np.linalg.norm(at_arrival - at_launch) < ONE_LABEL:
+        markers = [Marker(f"{launch_text} · {arrival_text}", tuple(at_launch), palette.START),
+                   Marker("", tuple(at_arrival), palette.TARGET)]
+    else:
+        markers = [Marker(launch_text, tuple(at_launch), palette.START),
+                   Marker(arrival_text, tuple(at_arrival), palette.TARGET, anchor="top-left")]
     if sol.method == "impulsive":
         for t, x in zip(sol.node_t[1:-1], sol.node_x[1:-1], strict=True):
             markers.append(Marker(f"impulse {iso_from_mjd(launch + t / DAY)}", tuple(x[0:3]),
