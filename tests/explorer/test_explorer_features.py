@@ -303,6 +303,47 @@ def test_bodies_with_a_track_move_with_the_animation_time():
         server.stop()
 
 
+def test_a_re_solve_that_only_moves_bodies_curves_and_labels_keeps_their_scene_nodes():
+    """A new optimum whose bodies, orbit curve and marker labels only moved (the asteroid's
+    launch date moves all of them) updates those scene nodes in place: the same handles,
+    new positions and text; a new body makes new nodes."""
+    import viser
+
+    from explorer.capture import free_port
+    from explorer.scene import SceneView
+    from solvers.presentation import Curve
+
+    def presentation(shift: float, date: str, bodies: int = 1) -> Presentation:
+        _, pres = _burn_coast_burn()
+        ring = np.column_stack([np.cos(np.linspace(0, 6, 50)), np.sin(np.linspace(0, 6, 50)),
+                                np.zeros(50)]) * 5e3 + [shift, 0.0, 0.0]
+        pres.curves.append(Curve("orbit", ring, (90, 90, 255)))
+        pres.bodies[0] = Body("target", (12e3 + shift, 0, 0), 10.0, (200, 200, 200))
+        pres.bodies += [Body(f"moon {i}", (0.0, 3e3 * i, 0.0), 20.0, (90, 90, 90))
+                        for i in range(1, bodies)]
+        pres.markers[0] = Marker(f"start {date}", (shift, 0.0, 0.0))
+        return pres
+
+    sol, _ = _burn_coast_burn()
+    server = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)
+    try:
+        view = SceneView(server.scene)
+        view.draw(build_geometry(presentation(0.0, "day 1"), sol.t, sol.arcs))
+        nodes = dict(server.scene._handle_from_node_name)
+        view.draw(build_geometry(presentation(2e3, "day 2"), sol.t, sol.arcs))
+        after = server.scene._handle_from_node_name
+        kept = [name for name in nodes if name.startswith(("/bodies/", "/curves", "/labels/"))]
+        assert kept and all(after.get(name) is nodes[name] for name in kept)
+        assert np.allclose(after["/bodies/target"].position, (14.0, 0.0, 0.0))  # km
+        label = next(h for name, h in after.items() if name.startswith("/labels/"))
+        assert label.text == "start day 2"
+        view.draw(build_geometry(presentation(2e3, "day 2", bodies=2), sol.t, sol.arcs))
+        assert server.scene._handle_from_node_name.get("/bodies/target") is not nodes[
+            "/bodies/target"]
+    finally:
+        server.stop()
+
+
 def test_grid_map_figure_marks_the_solution():
     from explorer.plots import map_figure
     from solvers.presentation import GridMap
