@@ -33,11 +33,12 @@ from .context import (
 from .handles import Handle, Sphere
 from .optimality import too_few_nodes
 from .problem import Consistency, Method, Param, Preset, Published, validate_values
-from .solution import Label, Quantity, Solution
+from .solution import Label, Quantity, Solution, WarmStart
 
 if TYPE_CHECKING:
     from .ocp import OCP, OCPResult
     from .presentation import Presentation
+    from .transcription.direct import DirectTranscription
 
 # A mission attribute and the names a mission's `problem` module gives it (the first found).
 RECORD_NAMES: dict[str, tuple[str, ...]] = {
@@ -319,7 +320,7 @@ class Mission:
         transcription = direct_transcription(method.transcription, problem, nodes, backend,
                                              **dict(method.options))
         start = warm.warm if warm is not None and warm.converged else None
-        res = transcription.solve(p, start, ctx)
+        res = self.solve_transcription(transcription, p, start, ctx)
         if res.status != "optimal" and nodes < method.nodes[1]:
             res.message = too_few_nodes(method, nodes, res.message)
         sol = self.direct_solution(values, method, nodes, backend, problem, res)
@@ -329,6 +330,12 @@ class Mission:
         elif res.defects is not None:  # where the answer fails: its constraint violation
             interval_error.record_defects(self, sol, *res.defects)
         return sol
+
+    def solve_transcription(self, transcription: DirectTranscription, p: np.ndarray,
+                            warm: WarmStart | None, ctx: SolveContext) -> OCPResult:
+        """One solve of the built transcription; a mission overrides it to choose the mesh
+        (e.g. nodes at the thrust switches of a bang–bang answer)."""
+        return transcription.solve(p, warm, ctx)
 
     def direct_solution(
         self, values: dict[str, float], method: Method, nodes: int, backend: str,

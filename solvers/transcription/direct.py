@@ -30,6 +30,11 @@ class DirectTranscription(ABC):
     symbolic: type = ca.SX
     # How the control is defined between nodes: "linear" or "polynomial" (through all nodes).
     control_interpolation: str = "linear"
+    # Whether the node positions are a parameter of the built NLP, so that one NLP solves on
+    # any mesh of N intervals (`solve(..., tau=...)`): a mission can put nodes where its
+    # control is not smooth without building again. A method whose defects take each
+    # interval's length offers it as an option; a global polynomial (LGL) has its nodes fixed.
+    variable_mesh: bool = False
 
     @staticmethod
     def mesh(n_intervals: int) -> np.ndarray:
@@ -41,7 +46,7 @@ class DirectTranscription(ABC):
         self.N = int(n_intervals)
         self.fn = ocp.functions()
         nx, nu, N = ocp.nx, ocp.nu, self.N
-        self.tau = self.mesh(N)
+        self.tau = self.mesh(N)  # the mesh a solve uses unless it is given another
         self.free_T = ocp.fixed_final_time is None
         self.free_t0 = ocp.free_initial_time
         sym = self.symbolic
@@ -51,6 +56,8 @@ class DirectTranscription(ABC):
         Ts = sym.sym("T") if self.free_T else sym(0, 1)
         t0s = sym.sym("t0") if self.free_t0 else sym(0, 1)
         ss = sym.sym("s", ocp.ns)
+        # Interval lengths over T, a parameter of the NLP with a variable mesh.
+        self._steps = sym.sym("steps", 1, N) if self.variable_mesh else sym(0, 1)
         T = Ts * ocp.T_scale if self.free_T else ocp.fixed_final_time(p)
         t0 = t0s * ocp.t0_scale if self.free_t0 else sym(0.0)
         s = ss * ca.DM(ocp.static_scale)
@@ -73,32 +80,43 @@ class DirectTranscription(ABC):
             g.append(ocp.boundary(point, p) / ca.DM(scale))
             self.n_boundary = len(ocp.boundary_lb)
             self._boundary_scale = scale
-        self.n_path = 0
+        self.n_path = self.path_points = 0
         if ocp.path is not None:
-            path = ca.horzcat(*[ocp.path(X[:, k], U[:, k], p) for k in range(N + 1)])
+            Xp, Up = self._path_points(X, U)
+            self.path_points = int(Xp.shape[1])
+            path = ca.horzcat(*[ocp.path(Xp[:, k], Up[:, k], p)
+                                for k in range(self.path_points)])
             self.n_path = int(path.size1())
             g.append(ca.vec(path))
         self.n_defects = int(defects.numel())
         z = ca.vertcat(ca.vec(Xs), ca.vec(Us), Ts, t0s, ss)
-        self.nlp = NLP(z, cost / ocp.cost_scale, ca.vertcat(*g), p, backend,
+        nlp_p = ca.vertcat(p, self._steps.T) if self.variable_mesh else p
+        self.nlp = NLP(z, cost / ocp.cost_scale, ca.vertcat(*g), nlp_p, backend,
                        name=self.kind.replace("-", "_"), ipopt_options=dict(ocp.nlp_options))
 
     @abstractmethod
     def _dynamics(self, X: ca.SX, U: ca.SX, T: ca.SX, p: ca.SX) -> tuple[ca.SX, ca.SX]:
         """Scaled dynamics constraints (vector) and the running cost in the problem's units."""
 
+    def _path_points(self, X: ca.SX, U: ca.SX) -> tuple[ca.SX, ca.SX]:
+        """The (states, controls) columns where the path constraints are imposed: the
+        nodes (a method with interior points of its own may add them)."""
+        return X, U
+
     @abstractmethod
     def costate_points(self, mu: np.ndarray, X: np.ndarray, U: np.ndarray, T: float,
-                       p: np.ndarray, ends: Endpoints) -> CostatePoints:
+                       p: np.ndarray, ends: Endpoints, tau: np.ndarray) -> CostatePoints:
         """The method's covector mapping: costates from the multipliers `mu` (rows: one per
         dynamics-constraint block, unscaled, `costates.defect_multipliers`); `ends` for the
-        methods that need the transversality conditions."""
+        methods that need the transversality conditions; `tau` the solve's mesh."""
 
     @abstractmethod
     def dense(
-        self, T: float, X: np.ndarray, U: np.ndarray, p: np.ndarray, per_interval: int
+        self, T: float, X: np.ndarray, U: np.ndarray, p: np.ndarray, per_interval: int,
+        tau: np.ndarray,
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Dense (t - t0, X, U) as the method defines the trajectory between nodes."""
+        """Dense (t - t0, X, U) as the method defines the trajectory between nodes of the
+        mesh `tau`."""
 
     # ---- variable layout -------------------------------------------------------------
     def _pack(self, X: np.ndarray, U: np.ndarray, T: float, t0: float = 0.0,
@@ -165,7 +183,7 @@ class DirectTranscription(ABC):
             lb.append(np.asarray(self.ocp.boundary_lb, float) / self._boundary_scale)
             ub.append(np.asarray(self.ocp.boundary_ub, float) / self._boundary_scale)
         if self.n_path:
-            reps = self.N + 1
+            reps = self.path_points
             lb.append(np.tile(self.ocp.path_lb, reps))
             ub.append(np.tile(self.ocp.path_ub, reps))
         return np.concatenate(lb), np.concatenate(ub)
@@ -174,27 +192,30 @@ class DirectTranscription(ABC):
         """x(t0) fixed by the problem, or `fallback` when the initial state is free."""
         return np.asarray(self.fn.x0(p)).ravel() if self.fn.x0 is not None else fallback
 
-    def _cold_guess(self, p: np.ndarray) -> np.ndarray:
+    def _cold_guess(self, p: np.ndarray, tau: np.ndarray) -> np.ndarray:
         guess = self.ocp.guess(p)
         start = np.asarray(guess.x_initial if guess.x_initial is not None else guess.x_final,
                            float)
         x0 = self.initial_state(p, start)
-        X = x0 + np.outer(self.tau, np.asarray(guess.x_final) - x0)
+        X = x0 + np.outer(tau, np.asarray(guess.x_final) - x0)
         U = np.tile(np.asarray(guess.u, float), (self.N + 1, 1))
         T = guess.T if self.free_T else float(self.fn.fixed_T(p))
         return self._pack(X, U, T, guess.t0, guess.statics)
 
-    def _warm_guess(self, warm: WarmStart, p: np.ndarray) -> np.ndarray:
-        """Re-interpolate another solution onto this mesh (node count or method changed)."""
-        X = _resample(self.tau, warm.tau, warm.X)
-        U = _resample(self.tau, warm.tau, warm.U)
+    def _warm_guess(self, warm: WarmStart, p: np.ndarray, tau: np.ndarray) -> np.ndarray:
+        """Re-interpolate another solution onto the mesh `tau` (node count, method or mesh
+        changed)."""
+        X = _resample(tau, warm.tau, warm.X)
+        U = _resample(tau, warm.tau, warm.U)
         X[0] = self.initial_state(p, X[0])
         T = warm.T if self.free_T else float(self.fn.fixed_T(p))
         return self._pack(X, U, T, warm.t0, warm.statics)
 
     def reuses(self, warm: WarmStart | None) -> bool:
         """Whether `warm` came from this very NLP (its primal and dual values fit as they
-        are)."""
+        are). On another mesh of a `variable_mesh` NLP too: node k stays node k, so a mesh
+        that follows a moving switch keeps the node at the switch there, which
+        re-interpolating in tau would not."""
         return (warm is not None and warm.kind == self.kind and warm.n_intervals == self.N
                 and warm.has_duals and len(warm.z) == self.nlp.n_x)
 
@@ -205,10 +226,14 @@ class DirectTranscription(ABC):
         warm: WarmStart | None = None,
         ctx: SolveContext | None = None,
         dense_per_interval: int = 10,
+        tau: np.ndarray | None = None,
     ) -> OCPResult:
         """Solve for numeric parameters `p`, warm-started when `warm` fits this mesh,
-        re-interpolated from `warm` otherwise, from the problem's guess without `warm`."""
+        re-interpolated from `warm` otherwise, from the problem's guess without `warm`;
+        on the mesh `tau` (N+1 increasing positions from 0 to 1) where the method has a
+        `variable_mesh`, else on its own."""
         p = np.asarray(p, float)
+        tau = self._checked_mesh(tau)
         lbx, ubx = self._box(p)
         lbg, ubg = self._g_bounds()
         lam_x = lam_g = None
@@ -216,14 +241,15 @@ class DirectTranscription(ABC):
             z0 = warm.z.copy()
             lam_x, lam_g = warm.lam_x, warm.lam_g
         elif warm is not None:
-            z0 = self._warm_guess(warm, p)
+            z0 = self._warm_guess(warm, p, tau)
         else:
-            z0 = self._cold_guess(p)
+            z0 = self._cold_guess(p, tau)
         z0 = np.clip(z0, lbx, ubx)
-        res = self.nlp.solve(z0, p, lbx, ubx, lbg, ubg, lam_x, lam_g, ctx)
+        nlp_p = np.concatenate([p, np.diff(tau)]) if self.variable_mesh else p
+        res = self.nlp.solve(z0, nlp_p, lbx, ubx, lbg, ubg, lam_x, lam_g, ctx)
         X, U, T, t0, statics = self._unpack(res.x, p)
         status, message = status_of(res)
-        t_dense, X_dense, U_dense = self.dense(T, X, U, p, dense_per_interval)
+        t_dense, X_dense, U_dense = self.dense(T, X, U, p, dense_per_interval, tau)
         bounds = self.ocp.bounds(p)
         lam_X = res.lam_x[:self.ocp.nx * (self.N + 1)].reshape(self.N + 1, self.ocp.nx)
         active = active_state_bounds(
@@ -240,14 +266,14 @@ class DirectTranscription(ABC):
                                        + self.n_boundary],
                              res.lam_x[:self.ocp.nx],
                              res.lam_x[self.N * self.ocp.nx:(self.N + 1) * self.ocp.nx])
-            costates, hamiltonian, variation = self.costates(res.lam_g, X, U, p, ends)
+            costates, hamiltonian, variation = self.costates(res.lam_g, X, U, p, ends, tau)
         history = []
         for k, z in res.history:
             Xk, _, Tk, _, _ = self._unpack(z, p)
-            history.append(Iterate(k, self.tau * Tk, Xk))
+            history.append(Iterate(k, tau * Tk, Xk))
         return OCPResult(
             T=T,
-            t_nodes=self.tau * T,
+            t_nodes=tau * T,
             X=X,
             U=U,
             t_dense=t_dense,
@@ -261,7 +287,7 @@ class DirectTranscription(ABC):
             n_constraints=self.nlp.n_g,
             max_violation=res.max_violation,
             history=history,
-            warm=WarmStart(self.kind, self.N, self.tau, X, U, T, res.x, res.lam_x, res.lam_g,
+            warm=WarmStart(self.kind, self.N, tau, X, U, T, res.x, res.lam_x, res.lam_g,
                            t0=t0, statics=statics),
             control_interpolation=self.control_interpolation,
             t0=t0,
@@ -269,21 +295,36 @@ class DirectTranscription(ABC):
             costates=costates,
             hamiltonian=hamiltonian,
             hamiltonian_variation=variation,
-            defects=self.defect_points(res.g[:self.n_defects], T),
+            defects=self.defect_points(res.g[:self.n_defects], T, tau),
         )
 
-    def defect_points(self, g: np.ndarray, T: float) -> tuple[np.ndarray, np.ndarray]:
+    def _checked_mesh(self, tau: np.ndarray | None) -> np.ndarray:
+        """The solve's mesh: `tau` when given (refused unless the method takes a mesh and
+        it is N+1 increasing positions from 0 to 1), else the method's own."""
+        if tau is None:
+            return self.tau
+        tau = np.asarray(tau, float)
+        if not self.variable_mesh:
+            raise ValueError(f"{self.kind} places its own nodes; it takes no mesh")
+        if (tau.shape != (self.N + 1,) or tau[0] != 0.0 or tau[-1] != 1.0
+                or np.any(np.diff(tau) <= 0.0)):
+            raise ValueError(f"a mesh of {self.N} intervals is {self.N + 1} increasing "
+                             "positions from 0 to 1")
+        return tau
+
+    def defect_points(self, g: np.ndarray, T: float, tau: np.ndarray
+                      ) -> tuple[np.ndarray, np.ndarray]:
         """The dynamics constraints at the NLP's last point, unscaled (rows: intervals, or
         nodes for LGL, in the states' units), at the interval midpoints (or nodes): where a
         failed answer fails."""
         rows = np.asarray(g, float).reshape(self.N, -1) * np.asarray(self.ocp.x_scale, float)
-        return (self.tau[1:] + self.tau[:-1]) / 2 * T, rows
+        return (tau[1:] + tau[:-1]) / 2 * T, rows
 
     def costates(self, lam_g: np.ndarray, X: np.ndarray, U: np.ndarray, p: np.ndarray,
-                 ends: Endpoints) -> tuple[Series, Series, float]:
+                 ends: Endpoints, tau: np.ndarray) -> tuple[Series, Series, float]:
         """Costate and Hamiltonian estimates (the OCP's units) from the NLP multipliers."""
         mu = defect_multipliers(lam_g, self.n_defects // self.ocp.nx, self.ocp)
-        points = self.costate_points(mu, X, U, ends.T, p, ends)
+        points = self.costate_points(mu, X, U, ends.T, p, ends, tau)
         return estimate(self.ocp, points, p, X[-1], ends.T)
 
 

@@ -16,6 +16,7 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
+from ..ocp import OCP
 from .costates import CostatePoints, Endpoints, transversality
 from .direct import DirectTranscription
 
@@ -64,21 +65,43 @@ def linear_dense(t_nodes: np.ndarray, U: np.ndarray, per_interval: int) -> np.nd
 class HermiteSimpson(DirectTranscription):
     kind = "hermite-simpson"
 
+    def __init__(self, ocp: OCP, n_intervals: int, backend: str = "ipopt",
+                 variable_mesh: int = 0, midpoint_path: int = 0) -> None:
+        """`variable_mesh` 1: the interval lengths are a parameter of the NLP (any mesh
+        re-solves it, `solve(..., tau=...)`); 0: equal steps, as numbers in the NLP.
+        `midpoint_path` 1: the path constraints hold at the interval midpoints too, where
+        Simpson's rule samples the dynamics and the running cost. Without it a nonconvex
+        bound such as |T| >= ρ1 can be undercut there (the average of two thrust vectors
+        of norm ρ1 is shorter), and the answer spends less than the true optimum."""
+        self.variable_mesh = bool(variable_mesh)
+        self.midpoint_path = bool(midpoint_path)
+        super().__init__(ocp, n_intervals, backend)
+
     def _dynamics(self, X: ca.SX, U: ca.SX, T: ca.SX, p: ca.SX) -> tuple[ca.SX, ca.SX]:
         N, ocp = self.N, self.ocp
-        h = T / N
+        h = T * self._steps if self.variable_mesh else T / N  # (1, N) or one length
         P = ca.repmat(p, 1, N + 1)
         defects, Xm, Um = hs_defects(self.fn.f, X, U, h, P)
+        self._midpoints = (Xm, Um)
         defects = defects / ca.repmat(ca.DM(ocp.x_scale), 1, N)
         running = ca.SX(0)
         if self.fn.lagrange is not None:
             L = self.fn.lagrange.map(N + 1)(X, U, P)
             Lm = self.fn.lagrange.map(N)(Xm, Um, P[:, :-1])
-            running = h / 6 * (ca.sum2(L[:, :-1]) + 4 * ca.sum2(Lm) + ca.sum2(L[:, 1:]))
+            if self.variable_mesh:
+                running = ca.sum2(h * (L[:, :-1] + 4 * Lm + L[:, 1:])) / 6
+            else:
+                running = h / 6 * (ca.sum2(L[:, :-1]) + 4 * ca.sum2(Lm) + ca.sum2(L[:, 1:]))
         return ca.vec(defects), running
 
+    def _path_points(self, X: ca.SX, U: ca.SX) -> tuple[ca.SX, ca.SX]:
+        if not self.midpoint_path:
+            return X, U
+        Xm, Um = self._midpoints
+        return ca.horzcat(X, Xm), ca.horzcat(U, Um)
+
     def costate_points(self, mu: np.ndarray, X: np.ndarray, U: np.ndarray, T: float,
-                       p: np.ndarray, ends: Endpoints) -> CostatePoints:
+                       p: np.ndarray, ends: Endpoints, tau: np.ndarray) -> CostatePoints:
         """lambda(t_k+1/2) = -mu_k: the defect of interval k approximates
         -integral (f - x') dt over it, so its multiplier is minus the costate at the
         interval's midpoint (Betts 2010, Practical Methods for Optimal Control, sec. 4.11;
@@ -90,11 +113,11 @@ class HermiteSimpson(DirectTranscription):
         costates, the closure conditions give them: the transversality conditions from the
         end multipliers (`costates.transversality`, as for LGL)."""
         F = self._node_slopes(X, U, p)
-        h = np.diff(self.tau) * T
+        h = np.diff(tau) * T
         Xm = (X[:-1] + X[1:]) / 2 + h[:, None] / 8 * (F[:-1] - F[1:])
         Um = (U[:-1] + U[1:]) / 2
         lam0, lamf = transversality(self.ocp, ends, p)
-        t = np.concatenate([[0.0], (self.tau[:-1] + self.tau[1:]) / 2 * T, [T]])
+        t = np.concatenate([[0.0], (tau[:-1] + tau[1:]) / 2 * T, [T]])
         return CostatePoints(t, np.vstack([lam0, -mu, lamf]), np.vstack([X[0], Xm, X[-1]]),
                              np.vstack([U[0], Um, U[-1]]))
 
@@ -103,9 +126,10 @@ class HermiteSimpson(DirectTranscription):
         return np.asarray(self.fn.f.map(N + 1)(X.T, U.T, np.tile(p[:, None], (1, N + 1)))).T
 
     def dense(
-        self, T: float, X: np.ndarray, U: np.ndarray, p: np.ndarray, per_interval: int
+        self, T: float, X: np.ndarray, U: np.ndarray, p: np.ndarray, per_interval: int,
+        tau: np.ndarray,
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         F = self._node_slopes(X, U, p)
-        t_nodes = self.tau * T
+        t_nodes = tau * T
         t, Xd = hermite_dense(t_nodes, X, F, per_interval)
         return t, Xd, linear_dense(t_nodes, U, per_interval)

@@ -38,7 +38,7 @@ class MultipleShooting(DirectTranscription):
         return ca.vec(gaps), ca.sum2(q)
 
     def costate_points(self, mu: np.ndarray, X: np.ndarray, U: np.ndarray, T: float,
-                       p: np.ndarray, ends: Endpoints) -> CostatePoints:
+                       p: np.ndarray, ends: Endpoints, tau: np.ndarray) -> CostatePoints:
         """lambda(t_k+1) = mu_k: the gap phi_k - x_k+1 ties the end of interval k to the next
         node, so its multiplier is the sensitivity of the optimal cost to that node's state
         (the discrete adjoint of the RK4 map, Betts 2010, sec. 4.11; Hager 2000); the first
@@ -47,7 +47,7 @@ class MultipleShooting(DirectTranscription):
         and reentry against their indirect solutions, tests/core/test_costates.py)."""
         A, q_x = self._first_step_jacobian()(X[0], U[0], U[1], T, p)
         lam0 = np.asarray(q_x).ravel() + np.asarray(A).T @ mu[0]
-        return CostatePoints(self.tau * T, np.vstack([lam0, mu]), X, U)
+        return CostatePoints(tau * T, np.vstack([lam0, mu]), X, U)
 
     def _first_step_jacobian(self) -> ca.Function:
         """(dphi/dx, dq/dx) of one interval's RK4 map at its start."""
@@ -62,8 +62,11 @@ class MultipleShooting(DirectTranscription):
         return self._step_jacobian
 
     def dense(
-        self, T: float, X: np.ndarray, U: np.ndarray, p: np.ndarray, per_interval: int
+        self, T: float, X: np.ndarray, U: np.ndarray, p: np.ndarray, per_interval: int,
+        tau: np.ndarray,
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The RK4 substeps of each interval (the method's own trajectory; equal steps, so
+        `tau` is the method's own mesh)."""
         N, M = self.N, self.substeps
         _, traj, _ = self._interval.map(N)(
             X[:-1].T, U[:-1].T, U[1:].T, np.full((1, N), T), np.tile(p[:, None], (1, N))

@@ -43,18 +43,19 @@ class LGLPseudospectral(DirectTranscription):
         return ca.vec(defects), running
 
     def costate_points(self, mu: np.ndarray, X: np.ndarray, U: np.ndarray, T: float,
-                       p: np.ndarray, ends: Endpoints) -> CostatePoints:
+                       p: np.ndarray, ends: Endpoints, tau: np.ndarray) -> CostatePoints:
         """The LGL covector mapping with closure conditions (`lgl_costates`)."""
         A = np.asarray(self._state_jacobian()(X.T, U.T, np.tile(p[:, None], (1, self.N + 1))))
         A = A.reshape(self.ocp.nx, self.N + 1, self.ocp.nx).transpose(1, 0, 2)
         lam = lgl_costates(mu, A, T, transversality(self.ocp, ends, p))
-        return CostatePoints(self.tau * T, lam, X, U)
+        return CostatePoints(tau * T, lam, X, U)
 
-    def defect_points(self, g: np.ndarray, T: float) -> tuple[np.ndarray, np.ndarray]:
+    def defect_points(self, g: np.ndarray, T: float, tau: np.ndarray
+                      ) -> tuple[np.ndarray, np.ndarray]:
         """The collocation residuals D x - (T/2) f at the nodes, weighted by the quadrature
         weights (each node's share of the integral of x' - f: a state difference)."""
         rows = np.asarray(g, float).reshape(self.N + 1, -1) * np.asarray(self.ocp.x_scale)
-        return self.tau * T, rows * lgl_weights(self.N)[:, None]
+        return tau * T, rows * lgl_weights(self.N)[:, None]
 
     def _state_jacobian(self) -> ca.Function:
         """df/dx at every node (mapped)."""
@@ -67,11 +68,12 @@ class LGLPseudospectral(DirectTranscription):
         return self._jac_x
 
     def dense(
-        self, T: float, X: np.ndarray, U: np.ndarray, p: np.ndarray, per_interval: int
+        self, T: float, X: np.ndarray, U: np.ndarray, p: np.ndarray, per_interval: int,
+        tau: np.ndarray,
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The interpolating polynomials of states and controls, sampled evenly plus at the
         nodes (so a plot passes exactly through the node markers)."""
-        s = np.union1d(np.linspace(0.0, 1.0, self.N * per_interval + 1), self.tau)
-        return s * T, interpolate(self.tau, X, s), interpolate(self.tau, U, s)
+        s = np.union1d(np.linspace(0.0, 1.0, self.N * per_interval + 1), tau)
+        return s * T, interpolate(tau, X, s), interpolate(tau, U, s)
 
 

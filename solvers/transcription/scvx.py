@@ -289,7 +289,8 @@ class SCvxHermiteSimpson(HermiteSimpson):
 
     kind = "scvx"
 
-    def __init__(self, ocp: OCP, n_intervals: int, backend: str = "scvx") -> None:
-        super().__init__(ocp, n_intervals, "ipopt")
+    def __init__(self, ocp: OCP, n_intervals: int, backend: str = "scvx",
+                 variable_mesh: int = 0, midpoint_path: int = 0) -> None:
+        super().__init__(ocp, n_intervals, "ipopt", variable_mesh, midpoint_path)
         problem = self.nlp._problem  # the symbolic (x, f, g, p) of the collocation NLP
         self.nlp = SCvxSolver(problem["x"], problem["f"], problem["g"], problem["p"])

@@ -91,3 +91,31 @@ def test_warm_start_from_another_method_converges_faster():
     # Its own warm start re-solves in at most a couple of iterations.
     again = tr.solve(np.array([1.0]), warm.warm)
     assert again.iterations <= 2
+
+
+def test_hermite_simpson_on_a_mesh_given_per_solve():
+    """With `variable_mesh` the interval lengths are a parameter of the one built NLP: on
+    equal steps it gives the fixed-mesh answer; on a graded mesh it keeps fourth order
+    (J = tanh(T)/2 closed form); its nodes sit on the mesh; a mesh that is not one is
+    refused, and so is any mesh for a method that places its own nodes."""
+    T, exact = 2.0, np.tanh(2.0) / 2
+    fixed = HermiteSimpson(_regulator(), 12).solve(np.array([T]))
+    free = HermiteSimpson(_regulator(), 12, variable_mesh=1)
+    assert free.solve(np.array([T])).cost == pytest.approx(fixed.cost, abs=1e-13)
+    graded = np.linspace(0.0, 1.0, 13) ** 1.5
+    res = free.solve(np.array([T]), tau=graded)
+    assert res.status == "optimal"
+    np.testing.assert_allclose(res.t_nodes, graded * T, atol=1e-15)
+    np.testing.assert_allclose(res.warm.tau, graded)
+    assert 0 < abs(res.cost - exact) < 10 * abs(fixed.cost - exact)
+    finer = HermiteSimpson(_regulator(), 24, variable_mesh=1).solve(
+        np.array([T]), tau=np.linspace(0.0, 1.0, 25) ** 1.5)
+    assert abs(finer.cost - exact) < abs(res.cost - exact) / 10  # ~2^4 at order 4
+    # A warm start from another mesh of the same NLP is taken node for node.
+    back = free.solve(np.array([T]), res.warm, tau=np.linspace(0.0, 1.0, 13))
+    assert back.cost == pytest.approx(fixed.cost, abs=1e-12)
+    for bad in (graded[::-1], graded[:-1], np.r_[graded[:-1], 0.99]):
+        with pytest.raises(ValueError, match="increasing positions from 0 to 1"):
+            free.solve(np.array([T]), tau=bad)
+    with pytest.raises(ValueError, match="takes no mesh"):
+        LGLPseudospectral(_regulator(), 4).solve(np.array([T]), tau=np.linspace(0, 1, 5))
