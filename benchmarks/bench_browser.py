@@ -6,9 +6,11 @@ shows the new optimum; the Long Tasks API sums the page's long tasks from the ke
 until 0.5 s after the new status; viser's sender counts the messages and websocket bytes sent to
 the page for the update. Median over `--repeats`. The floor is measured first in the same
 browser: a bare viser page whose slider writes a markdown line; each case's ratio to it is
-printed.
+printed. `--by-type` also lists, per case, what the messages of one update were: type, the
+scene node or GUI element, the properties they set.
 
     python benchmarks/bench_browser.py [--repeats 7] [--case lunar-landing:hermite-simpson]
+                                       [--by-type]
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ import statistics
 import sys
 import threading
 import time
+from collections import Counter
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).parent))
@@ -50,6 +53,7 @@ class Frames:
         from viser.infra import _infra, _messages
 
         self.count = self.bytes = 0
+        self.kinds: Counter[tuple[str, str, str]] = Counter()  # (type, target, properties)
         self.lock = threading.Lock()
         append, serialize = _infra._append_aligned_buffers, _messages.Message.as_serializable_dict
 
@@ -62,6 +66,7 @@ class Frames:
         def counted_serialize(message, *a, **k):
             with self.lock:
                 self.count += 1
+                self.kinds[kind_of(message)] += 1
             return serialize(message, *a, **k)
 
         _infra._append_aligned_buffers = counted_append
@@ -71,6 +76,20 @@ class Frames:
         with self.lock:
             out, self.count, self.bytes = (self.count, self.bytes), 0, 0
         return out
+
+
+def kind_of(message) -> tuple[str, str, str]:
+    """A message's type, the scene node or GUI element it is for, the properties it sets."""
+    target = getattr(message, "name", None) or str(getattr(message, "uuid", ""))[:8]
+    updates = getattr(message, "updates", None)
+    return (type(message).__name__.removesuffix("Message"), str(target),
+            ",".join(sorted(updates)) if isinstance(updates, dict) else "")
+
+
+def print_kinds(kinds: Counter, updates: int) -> None:
+    """The messages of the case's updates, most frequent first, per update."""
+    for (kind, target, props), n in kinds.most_common():
+        print(f"    {n / updates:5.1f}  {kind:28s} {target:36s} {props}", flush=True)
 
 
 def measure(page, view, key: str, label: str, repeats: int, frames: Frames) -> list[tuple]:
@@ -182,6 +201,8 @@ def main(argv: list[str] | None = None) -> None:
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--repeats", type=int, default=7)
     parser.add_argument("--case", action="append", help="MISSION:METHOD (repeatable)")
+    parser.add_argument("--by-type", action="store_true",
+                        help="list each case's messages per update by type and target")
     parser.add_argument("--gpu-process", action="store_true",
                         help="composite the (software) WebGL in the GPU process, as a browser "
                              "on a machine with a GPU does (no per-frame readback)")
@@ -207,6 +228,8 @@ def main(argv: list[str] | None = None) -> None:
             for key, method in cases:
                 mission = show_case(page, view, key, method)
                 param = next(p for p in mission.params if p.key == LIVE_PARAMETER[key])
+                frames.take()
+                frames.kinds.clear()
                 rows = measure(page, view, key, label_of(param), args.repeats, frames)
                 lat = statistics.median(r[0] for r in rows)
                 long_ms = statistics.median(r[1] for r in rows)
@@ -214,6 +237,8 @@ def main(argv: list[str] | None = None) -> None:
                 kb = statistics.median(r[3] for r in rows) / 1e3
                 print(f"{key:20s} {method:18s} {lat:16.0f} {lat / floor:8.1f} "
                       f"{long_ms:14.0f} {msgs:9.0f} {kb:7.0f}", flush=True)
+                if args.by_type:
+                    print_kinds(frames.kinds, args.repeats)
     finally:
         app.stop()
 

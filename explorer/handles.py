@@ -26,7 +26,7 @@ from solvers.handles import Handle, Sphere, values_at
 from solvers.presentation import Presentation
 from solvers.problem import Param
 
-from .geometry import MERGE_LABELS, Geometry
+from .geometry import MERGE_LABELS, Geometry, steady
 from .panels.setup import Controls
 from .panels.value_input import display_unit, to_display
 from .requests import Request
@@ -120,7 +120,7 @@ class Handles:
                 self.clear()
                 self._mission = mission.key
             self._scale = pres.display_scale
-            self._size = GIZMO_FRACTION * geometry.extent
+            self._size = steady(GIZMO_FRACTION * geometry.extent)
             view = self.session.view
             items = [(h, None) for h in mission.handles]
             items += [(s.handle, s) for s in mission.shapes]

@@ -23,7 +23,16 @@ import numpy as np
 import viser
 
 from .camera import scale_bar
-from .geometry import ARROW, BACKGROUNDS, NODE, NODE_LIGHT, Geometry, line_colors, node_size
+from .geometry import (
+    ARROW,
+    BACKGROUNDS,
+    NODE,
+    NODE_LIGHT,
+    Geometry,
+    line_colors,
+    node_size,
+    steady,
+)
 from .player import Pose
 
 VEHICLE_FRACTION = 0.035  # vehicle length as a fraction of the trajectory extent
@@ -100,7 +109,7 @@ class SceneView:
     def draw(self, g: Geometry) -> None:
         """Show `g`: the context if it changed, then path, nodes and arrows in place."""
         self._draw_context(g)
-        size = 0.006 * g.extent  # world units: node points and arrows scale with the view
+        size = steady(0.006 * g.extent)  # world units: arrows scale with the view
         self._segments(f"{self.root}/trajectory", self._solution, g.segments, g.segment_colors,
                        4.0)
         self._points(f"{self.root}/nodes", g.nodes, node_size(g))
@@ -200,7 +209,7 @@ class SceneView:
     # ---- vehicle ------------------------------------------------------------------------
     def set_vehicle(self, vehicle: str, extent: float) -> None:
         """The vehicle mesh (loaded once per vehicle), scaled to the view's extent."""
-        size = VEHICLE_FRACTION * extent
+        size = steady(VEHICLE_FRACTION * extent)
         if vehicle != self._vehicle_name:
             self.remove_vehicle()
             self._load_vehicle(vehicle)
@@ -356,7 +365,7 @@ class SceneView:
                                                              strict=True):
             if point is not None:
                 point.points = position[None].astype(np.float32)
-                point.point_size = 0.015 * g.extent
+                point.point_size = steady(0.015 * g.extent)
             if label is not None:
                 label.position = tuple(position)
                 if label.text != name:
@@ -370,7 +379,8 @@ class SceneView:
         if has_point:
             point = self.scene.add_point_cloud(
                 self._name(f"{self.root}/markers/{i}"), position[None].astype(np.float32),
-                color, point_size=0.015 * extent, point_shape="circle", precision="float32")
+                color, point_size=steady(0.015 * extent), point_shape="circle",
+                precision="float32")
         label = None if not name else self.scene.add_label(
             self._name(f"{self.root}/labels/{i}"), name, position=tuple(position),
             font_screen_scale=0.8, anchor=anchor)
