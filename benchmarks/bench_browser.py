@@ -7,10 +7,12 @@ until 0.5 s after the new status; viser's sender counts the messages and websock
 the page for the update. Median over `--repeats`. The floor is measured first in the same
 browser: a bare viser page whose slider writes a markdown line; each case's ratio to it is
 printed. `--by-type` also lists, per case, what the messages of one update were: type, the
-scene node or GUI element, the properties they set.
+scene node or GUI element, the properties they set. `--trace` records one more update per
+case with Chromium's tracing (DevTools protocol) and prints where the page's threads spent
+it: each thread's busy time and its largest kinds of top-level task.
 
     python benchmarks/bench_browser.py [--repeats 7] [--case lunar-landing:hermite-simpson]
-                                       [--by-type]
+                                       [--by-type] [--trace]
 """
 
 from __future__ import annotations
@@ -90,6 +92,77 @@ def print_kinds(kinds: Counter, updates: int) -> None:
     """The messages of the case's updates, most frequent first, per update."""
     for (kind, target, props), n in kinds.most_common():
         print(f"    {n / updates:5.1f}  {kind:28s} {target:36s} {props}", flush=True)
+
+
+TRACE_CATEGORIES = "devtools.timeline,disabled-by-default-devtools.timeline,toplevel,gpu,v8"
+
+
+def trace_update(context, page, view, label: str) -> dict[str, tuple[float, Counter]]:
+    """One more slider step under Chromium's tracing, until the new answer is drawn and
+    0.5 s after: per thread, its busy time (ms, top-level tasks) and the durations of the
+    events directly inside those tasks by name."""
+    events: list[dict] = []
+    cdp = context.new_cdp_session(page)
+    cdp.on("Tracing.dataCollected", lambda e: events.extend(e["value"]))
+    done = threading.Event()
+    cdp.on("Tracing.tracingComplete", lambda _e: done.set())
+    slider_id = page.locator("label", has_text=label).first.get_attribute("for")
+    thumb = page.locator(f'[id="{slider_id}"]').get_by_role("slider")
+    before = view.session.latest
+    cdp.send("Tracing.start", {"categories": TRACE_CATEGORIES, "transferMode": "ReportEvents"})
+    thumb.focus()
+    page.keyboard.press("ArrowRight")
+    deadline = time.monotonic() + 120.0
+    while view.session.latest is before or view.session.busy:
+        if time.monotonic() > deadline:
+            raise TimeoutError("no new answer under tracing")
+        page.wait_for_timeout(10)
+    page.wait_for_timeout(500)
+    cdp.send("Tracing.end")
+    while not done.is_set() and time.monotonic() < deadline:
+        page.wait_for_timeout(50)
+    cdp.detach()
+    return thread_breakdown(events)
+
+
+def thread_breakdown(events: list[dict]) -> dict[str, tuple[float, Counter]]:
+    """Per named thread: the summed duration of its top-level tasks (ms) and the self time
+    of each kind of event within them (its duration less that of the events inside it),
+    keyed by (name, how many)."""
+    names = {(e["pid"], e["tid"]): e["args"]["name"] for e in events
+             if e.get("ph") == "M" and e.get("name") == "thread_name"}
+    by_thread: dict[tuple, list[dict]] = {}
+    for e in events:
+        if e.get("ph") == "X" and "dur" in e:
+            by_thread.setdefault((e["pid"], e["tid"]), []).append(e)
+    out: dict[str, tuple[float, Counter]] = {}
+    for key, items in by_thread.items():
+        items.sort(key=lambda e: (e["ts"], -e["dur"]))
+        busy, own, count = 0.0, Counter(), Counter()
+        stack: list[list] = []  # [end, name, self time]
+        for e in items + [{"ts": float("inf"), "dur": 0.0, "name": ""}]:
+            while stack and e["ts"] >= stack[-1][0]:
+                _, name, self_ms = stack.pop()
+                own[name] += self_ms
+                count[name] += 1
+            if e["ts"] == float("inf"):
+                break
+            ms = e["dur"] / 1e3
+            if stack:
+                stack[-1][2] -= ms
+            else:
+                busy += ms
+            stack.append([e["ts"] + e["dur"], e["name"], ms])
+        name = names.get(key, str(key))
+        total, counter = out.get(name, (0.0, Counter()))
+        out[name] = (total + busy, counter + Counter({(n, count[n]): ms for n, ms in own.items()}))
+    return out
+
+
+def print_breakdown(breakdown: dict[str, tuple[float, Counter]]) -> None:
+    for thread, (busy, inner) in sorted(breakdown.items(), key=lambda kv: -kv[1][0])[:5]:
+        parts = ", ".join(f"{n} {ms:.0f} ({k})" for (n, k), ms in inner.most_common(6))
+        print(f"    {thread:24s} busy {busy:6.0f} ms: {parts}", flush=True)
 
 
 def measure(page, view, key: str, label: str, repeats: int, frames: Frames) -> list[tuple]:
@@ -201,6 +274,8 @@ def main(argv: list[str] | None = None) -> None:
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--repeats", type=int, default=7)
     parser.add_argument("--case", action="append", help="MISSION:METHOD (repeatable)")
+    parser.add_argument("--trace", action="store_true",
+                        help="trace one more update per case and print the threads' time")
     parser.add_argument("--by-type", action="store_true",
                         help="list each case's messages per update by type and target")
     parser.add_argument("--gpu-process", action="store_true",
@@ -239,6 +314,9 @@ def main(argv: list[str] | None = None) -> None:
                       f"{long_ms:14.0f} {msgs:9.0f} {kb:7.0f}", flush=True)
                 if args.by_type:
                     print_kinds(frames.kinds, args.repeats)
+                if args.trace:
+                    view.session.wait_idle(60.0)
+                    print_breakdown(trace_update(context, page, view, label_of(param)))
     finally:
         app.stop()
 
