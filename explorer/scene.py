@@ -339,10 +339,13 @@ class SceneView:
                                              thickness=1.5, thickness_units="screen"))
 
     def _move_context(self, g: Geometry) -> None:
-        """Same bodies and curve count as on screen: move them in place."""
+        """The same bodies, and curves or none as on screen: move and resize them in place
+        (viser sends only the properties that changed)."""
         self._moving = []
         for handle, s in zip(self._context[:len(g.spheres)], g.spheres, strict=True):
             handle.position = tuple(s.center)
+            handle.radius, handle.subdivisions, handle.color = (
+                float(s.radius), int(s.subdivisions), tuple(s.color))
             if s.track is not None:
                 self._moving.append((handle, g.times, s.track))
         if len(g.curve_segments):
@@ -388,7 +391,8 @@ class SceneView:
 
 
 def _context_shape(g: Geometry) -> tuple:
-    """What of the bodies and curves only new scene nodes can show: which bodies (name,
-    size, colour, mesh), and whether there are curves and how many."""
-    return (tuple((s.name, s.radius, s.color, s.subdivisions) for s in g.spheres),
-            g.curve_segments.shape)
+    """What of the bodies and curves only new scene nodes can show: which bodies, and
+    whether there are curves (a body's size, colour and mesh and the curves' points, of
+    any count, are set in place: the elliptic transfer's orbit curves change their sample
+    count with every solve, and made it re-create its bodies and curves each time)."""
+    return tuple(s.name for s in g.spheres), bool(len(g.curve_segments))

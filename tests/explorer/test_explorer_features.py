@@ -305,18 +305,20 @@ def test_bodies_with_a_track_move_with_the_animation_time():
 
 def test_a_re_solve_that_only_moves_bodies_curves_and_labels_keeps_their_scene_nodes():
     """A new optimum whose bodies, orbit curve and marker labels only moved (the asteroid's
-    launch date moves all of them) updates those scene nodes in place: the same handles,
-    new positions and text; a new body makes new nodes."""
+    launch date moves all of them; the elliptic transfer's orbit curves change their sample
+    count) updates those scene nodes in place: the same handles, new positions, points and
+    text; a new body makes new nodes."""
     import viser
 
     from explorer.capture import free_port
     from explorer.scene import SceneView
     from solvers.presentation import Curve
 
-    def presentation(shift: float, date: str, bodies: int = 1) -> Presentation:
+    def presentation(shift: float, date: str, bodies: int = 1, samples: int = 50
+                     ) -> Presentation:
         _, pres = _burn_coast_burn()
-        ring = np.column_stack([np.cos(np.linspace(0, 6, 50)), np.sin(np.linspace(0, 6, 50)),
-                                np.zeros(50)]) * 5e3 + [shift, 0.0, 0.0]
+        angle = np.linspace(0, 6, samples)
+        ring = np.column_stack([np.cos(angle), np.sin(angle), 0 * angle]) * 5e3 + [shift, 0, 0]
         pres.curves.append(Curve("orbit", ring, (90, 90, 255)))
         pres.bodies[0] = Body("target", (12e3 + shift, 0, 0), 10.0, (200, 200, 200))
         pres.bodies += [Body(f"moon {i}", (0.0, 3e3 * i, 0.0), 20.0, (90, 90, 90))
@@ -330,13 +332,13 @@ def test_a_re_solve_that_only_moves_bodies_curves_and_labels_keeps_their_scene_n
         view = SceneView(server.scene)
         view.draw(build_geometry(presentation(0.0, "day 1"), sol.t, sol.arcs))
         nodes = dict(server.scene._handle_from_node_name)
-        view.draw(build_geometry(presentation(2e3, "day 2"), sol.t, sol.arcs))
+        view.draw(build_geometry(presentation(2e3, "day 2", samples=60), sol.t, sol.arcs))
         after = server.scene._handle_from_node_name
         kept = [name for name in nodes if name.startswith(("/bodies/", "/curves", "/labels/"))]
         assert kept and all(after.get(name) is nodes[name] for name in kept)
         assert np.allclose(after["/bodies/target"].position, (14.0, 0.0, 0.0))  # km
         label = next(h for name, h in after.items() if name.startswith("/labels/"))
-        assert label.text == "start day 2"
+        assert label.text == "start day 2" and len(after["/curves"].points) == 59
         view.draw(build_geometry(presentation(2e3, "day 2", bodies=2), sol.t, sol.arcs))
         assert server.scene._handle_from_node_name.get("/bodies/target") is not nodes[
             "/bodies/target"]
