@@ -7,7 +7,8 @@ Run: python benchmarks/bench_convex.py [--skip-others]
    iterations (SOCP solves for lossless), cold time (first solve, building included) and warm
    time (a 1 % change of the start's downrange speed, warm-started from the optimum).
 2. SCvx against IPOPT on the same Hermite–Simpson NLP of other missions (lunar landing,
-   hovercraft): cost, iterations, cold and warm time.
+   hovercraft, CW rendezvous, and the gallery's keep-out rendezvous, whose clearance path
+   constraint is active on an arc): cost, iterations, cold and warm time.
 
 Times are wall-clock on this machine with the re-propagation check deferred (as the explorer
 does); run it on an idle machine for numbers worth comparing.
@@ -17,15 +18,19 @@ from __future__ import annotations
 
 import argparse
 import time
+from pathlib import Path
 
 import solvers
 from solvers.context import SolveContext
 from solvers.methods import SCVX
 from solvers.mission import Mission
 from solvers.problem import Method
+from solvers.registry import load_mission_files
 from solvers.solution import Solution
 
-LIVE = {"powered-descent": "vx0", "lunar-landing": "thrust", "hovercraft": "accel"}
+LIVE = {"powered-descent": "vx0", "lunar-landing": "thrust", "hovercraft": "accel",
+        "cw-rendezvous": "accel", "keep-out-rendezvous": "keep_out"}
+KEEP_OUT = Path(__file__).parents[1] / "examples" / "keep_out_rendezvous.py"
 
 
 def _timed(fn, *args, **kwargs) -> tuple[Solution, float]:
@@ -70,7 +75,11 @@ def _general(mission: Mission, method: Method, values: dict[str, float], nodes: 
     return mission.solve_direct(values, method, nodes, backend, warm, ctx)
 
 
-def scvx_table(keys: tuple[str, ...] = ("lunar-landing", "hovercraft")) -> list[str]:
+def scvx_table(keys: tuple[str, ...] = ("lunar-landing", "hovercraft", "cw-rendezvous",
+                                         "keep-out-rendezvous")) -> list[str]:
+    errors = load_mission_files([str(KEEP_OUT)])
+    if errors:
+        raise SystemExit(f"{KEEP_OUT}: {errors}")
     rows = []
     for key in keys:
         mission = solvers.get_mission(key)
