@@ -82,6 +82,12 @@ class Frames:
         return out
 
 
+def slider_thumb(page, label: str):
+    """The thumb of the slider labelled `label` (focused, it takes the arrow keys)."""
+    slider_id = page.locator("label", has_text=label).first.get_attribute("for")
+    return page.locator(f'[id="{slider_id}"]').get_by_role("slider")
+
+
 def kind_of(message) -> tuple[str, str, str]:
     """A message's type, the scene node or GUI element it is for, the properties it sets."""
     target = getattr(message, "name", None) or str(getattr(message, "uuid", ""))[:8]
@@ -108,8 +114,7 @@ def trace_update(context, page, view, label: str) -> dict[str, tuple[float, Coun
     cdp.on("Tracing.dataCollected", lambda e: events.extend(e["value"]))
     done = threading.Event()
     cdp.on("Tracing.tracingComplete", lambda _e: done.set())
-    slider_id = page.locator("label", has_text=label).first.get_attribute("for")
-    thumb = page.locator(f'[id="{slider_id}"]').get_by_role("slider")
+    thumb = slider_thumb(page, label)
     before = view.session.latest
     cdp.send("Tracing.start", {"categories": TRACE_CATEGORIES, "transferMode": "ReportEvents"})
     thumb.focus()
@@ -170,8 +175,7 @@ def print_breakdown(breakdown: dict[str, tuple[float, Counter]]) -> None:
 def measure(page, view, key: str, label: str, repeats: int, frames: Frames) -> list[tuple]:
     from explorer.panels.status import fmt
 
-    slider_id = page.locator("label", has_text=label).first.get_attribute("for")
-    thumb = page.locator(f'[id="{slider_id}"]').get_by_role("slider")
+    thumb = slider_thumb(page, label)
     rows = []
     for k in range(repeats):
         before = view.session.latest
@@ -268,8 +272,7 @@ def measure_floor(context, repeats: int, scene: bool = False) -> list[float]:
         if scene:
             settle(page, 60.0)  # the first frame (shaders) before the first key press
         page.evaluate(FLOOR_OBSERVER)
-        slider_id = page.locator("label", has_text="floor value").first.get_attribute("for")
-        thumb = page.locator(f'[id="{slider_id}"]').get_by_role("slider")
+        thumb = slider_thumb(page, "floor value")
         times = []
         for k in range(repeats):
             page.evaluate("() => { window.__floor = []; }")

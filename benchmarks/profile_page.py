@@ -16,7 +16,7 @@ from collections import defaultdict
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).parent))
-from bench_browser import INSTRUMENT, show_case  # noqa: E402
+from bench_browser import INSTRUMENT, show_case, slider_thumb  # noqa: E402
 from bench_missions import LIVE_PARAMETER  # noqa: E402
 
 SAMPLING_US = 200  # µs between profiler samples
@@ -92,8 +92,7 @@ def main(argv: list[str] | None = None) -> None:
             mission = show_case(page, view, key, method)
             page.evaluate(INSTRUMENT)
             param = next(p for p in mission.params if p.key == LIVE_PARAMETER[key])
-            slider_id = page.locator("label", has_text=label_of(param)).first.get_attribute("for")
-            thumb = page.locator(f'[id="{slider_id}"]').get_by_role("slider")
+            thumb = slider_thumb(page, label_of(param))
             cdp = context.new_cdp_session(page)
             cdp.send("Profiler.enable")
             cdp.send("Profiler.setSamplingInterval", {"interval": SAMPLING_US})

@@ -34,11 +34,11 @@ from .handles import Handle, Sphere
 from .optimality import too_few_nodes
 from .problem import Consistency, Method, Param, Preset, Published, validate_values
 from .solution import Label, Quantity, Solution, WarmStart
+from .transcription import DirectTranscription, direct_transcription
 
 if TYPE_CHECKING:
     from .ocp import OCP, OCPResult
     from .presentation import Presentation
-    from .transcription.direct import DirectTranscription
 
 # A mission attribute and the names a mission's `problem` module gives it (the first found).
 RECORD_NAMES: dict[str, tuple[str, ...]] = {
@@ -312,7 +312,6 @@ class Mission:
         deferred check adds the interval errors and the indirect reference
         (`interval_error.checked`)."""
         from . import interval_error
-        from .transcription import direct_transcription
 
         p = self.parameter_vector(values)
         self.precheck(values, p)
