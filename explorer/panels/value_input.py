@@ -261,7 +261,16 @@ class NumberField:
             self.report(self.param.label, str(exc))
             self.show(self.value)  # the old value stays, in both widgets
             return
-        self.show(value)
+        if value == self.value:
+            return
+        # The slider follows; the box keeps the text as typed. Writing it back in canonical
+        # form could reach the page after a newer entry and overwrite what the user typed.
+        self.value = value
+        self._syncing = True
+        try:
+            self.slider.value = to_display(self.param, value)
+        finally:
+            self._syncing = False
         self.apply(self.param.key, value)
 
 
@@ -288,15 +297,15 @@ class TimeLimitField:
         """Use the typed text now (after the pause, or at once from tests)."""
         self._pause.cancel()
         text = str(self.box.value)
-        if text == self.text(self.seconds):
-            return
         try:
             seconds = parse_time_limit(text)
         except ValueError as exc:
             self.report("solve time limit", str(exc))
             self.box.value = self.text(self.seconds)
             return
+        if seconds == self.seconds:
+            return
+        # The box keeps the text as typed ("12 s"): an echo in canonical form could reach
+        # the page after a newer entry and overwrite it.
         self.seconds = seconds
-        if str(self.box.value) == text:  # not over a newer entry typed meanwhile
-            self.box.value = self.text(seconds)
         self.apply(seconds)

@@ -161,6 +161,36 @@ def gui_server():
     server.stop()
 
 
+def test_a_typed_entry_is_taken_without_writing_the_box_back(gui_server):
+    """An accepted entry stays as typed: a canonical echo ("12 s" -> "12") could reach the
+    page after a newer entry and overwrite it (the fresh-venv failure of 2026-12-02). A
+    refused entry puts the old value back, since there is nothing newer to keep."""
+    taken: list[float | None] = []
+    reports: list[str] = []
+    field = vi.TimeLimitField(gui_server.gui, "limit", 20.0, taken.append,
+                              lambda title, message: reports.append(message), hint="")
+    field.box.value = "12 s"
+    field.commit()
+    assert taken == [12.0] and field.box.value == "12 s"
+    field.commit()  # the same value again: nothing to apply
+    assert taken == [12.0]
+    field.box.value = "-5"
+    field.commit()
+    assert taken == [12.0] and field.box.value == "12" and "outside the allowed range" in reports[0]
+
+    x = SlowMission.params[0]  # shown in km
+    applied: list[tuple[str, float]] = []
+    number = vi.NumberField(gui_server.gui, x, 1.0, lambda k, v: applied.append((k, v)),
+                            lambda title, message: reports.append(message))
+    number.box.value = "2.5e-3"
+    number.commit()
+    assert applied == [("x", 2.5)] and number.box.value == "2.5e-3"
+    assert number.slider.value == pytest.approx(0.0025)  # the slider follows
+    number.box.value = "0.0025"
+    number.commit()  # the same value typed another way
+    assert applied == [("x", 2.5)]
+
+
 class _Rebuild(Recorder):
     """Rebuilds the controls on a configuration change, as the app's view does."""
 
