@@ -5,6 +5,7 @@ of the browsers that watch one view."""
 from __future__ import annotations
 
 import math
+import time
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
@@ -125,6 +126,10 @@ def fit_camera(g: Geometry, aspect: float = 1.0, bottom: float = 0.0,
 
 
 FOLLOW_DISTANCE = 8.0  # follow camera distance in vehicle lengths
+# After a placement, a browser's camera messages are its pose from before (already on the way)
+# until it echoes the placement; past this wait without an echo (a person took the camera
+# while ours was on the way), its messages count as a person's again.
+ECHO_WAIT_S = 2.0
 
 
 class Cameras:
@@ -138,6 +143,7 @@ class Cameras:
         self.clients: dict[int, viser.ClientHandle] = {}
         self._fit_aspect: dict[int, float] = {}
         self._placed: dict[int, tuple[np.ndarray, np.ndarray]] = {}  # what we set last
+        self._sent_at: dict[int, float] = {}  # when, until the browser echoes it
         self.user_view: dict[int, np.ndarray] = {}  # direction a person chose, per browser
         self._refit: Callable[[viser.ClientHandle], None] | None = None
         self.framed: tuple[str, np.ndarray, np.ndarray, float] | None = None
@@ -152,6 +158,7 @@ class Cameras:
         self.clients.pop(client.client_id, None)
         self._fit_aspect.pop(client.client_id, None)
         self._placed.pop(client.client_id, None)
+        self._sent_at.pop(client.client_id, None)
         self.user_view.pop(client.client_id, None)
 
     def needs_framing(self, mission: str, g: Geometry) -> bool:
@@ -198,7 +205,7 @@ class Cameras:
                 else:
                     camera.position = tuple(cam.position)
                     camera.look_at = tuple(cam.look_at)
-                    self._placed[client.client_id] = (cam.position, cam.look_at)
+                    self._place(client, cam.position, cam.look_at)
 
     def chase(self, g: Geometry, target: np.ndarray, vehicle_size: float) -> None:
         for client in self.chosen(None):
@@ -215,7 +222,12 @@ class Cameras:
         with client.atomic():
             camera.look_at = tuple(target)
             camera.position = tuple(position)
-        self._placed[client.client_id] = (position, np.asarray(target, float))
+        self._place(client, position, np.asarray(target, float))
+
+    def _place(self, client: viser.ClientHandle, position: np.ndarray, look_at: np.ndarray
+               ) -> None:
+        self._placed[client.client_id] = (np.asarray(position, float), look_at)
+        self._sent_at[client.client_id] = time.monotonic()
 
     def _camera_update(self, camera: viser.CameraHandle) -> None:
         """Refit when the canvas changes shape (panels docking, window resized): viser does
@@ -231,6 +243,14 @@ class Cameras:
         position, look_at = np.asarray(camera.position), np.asarray(camera.look_at)
         scale = max(float(np.linalg.norm(placed[0] - placed[1])), 1e-12)
         moved = (np.linalg.norm(position - placed[0]) + np.linalg.norm(look_at - placed[1]))
+        sent = self._sent_at.get(client.client_id)
+        if sent is not None:
+            if moved <= 1e-3 * scale:  # our placement came back: later messages are a person's
+                del self._sent_at[client.client_id]
+                return
+            if time.monotonic() - sent < ECHO_WAIT_S:  # the pose from before, on its way
+                return
+            del self._sent_at[client.client_id]
         if moved > 1e-3 * scale:  # not our own placement coming back: a person moved it
             direction = position - look_at
             if np.linalg.norm(direction) > 0:

@@ -1,5 +1,5 @@
 """What the browser tests share: the window size, the marks that skip them without chromium
-or Playwright, and a wait that says what it waited for."""
+or Playwright, a wait that says what it waited for, and the camera of a tab once still."""
 
 from __future__ import annotations
 
@@ -7,6 +7,7 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from explorer.capture import CHROMIUM
@@ -34,3 +35,37 @@ def until(condition: Callable[[], object], what: str, timeout: float = PATIENCE)
         assert time.monotonic() < deadline, f"timed out waiting for {what}"
         time.sleep(0.05)
     return value
+
+
+STILL = 1.5  # s without camera motion before a tab's camera is read
+
+
+def settled_camera(view) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """(position, look_at, up, vertical fov) of the one tab's camera, as its browser last
+    reported it, once unchanged for `STILL` s (the framing of a new solution is animated)."""
+    clients = list(view.camera.clients.values())
+    assert len(clients) == 1
+    camera = clients[0].camera
+
+    def pose() -> tuple:
+        return (tuple(np.round(camera.position, 9)), tuple(np.round(camera.look_at, 9)),
+                tuple(camera.up_direction), float(camera.fov))
+
+    last, since = pose(), time.monotonic()
+    deadline = since + PATIENCE
+    while time.monotonic() - since < STILL:
+        assert time.monotonic() < deadline, "the camera did not settle"
+        time.sleep(0.05)
+        now = pose()
+        if now != last:
+            last, since = now, time.monotonic()
+    position, look_at, up, fov = last
+    return np.array(position), np.array(look_at), np.array(up), fov
+
+
+def slider_key(page, label: str, key: str, times: int = 1) -> None:
+    """Focus a viser slider's thumb and press `key` (ArrowRight steps, Home goes to min)."""
+    slider_id = page.locator("label", has_text=label).first.get_attribute("for")
+    page.locator(f'[id="{slider_id}"]').get_by_role("slider").focus()
+    for _ in range(times):
+        page.keyboard.press(key)

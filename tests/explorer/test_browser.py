@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from browser_support import BROWSER, HEIGHT, PATIENCE, PATIENCE_MS, WIDTH, until
+from browser_support import BROWSER, HEIGHT, PATIENCE, PATIENCE_MS, WIDTH, slider_key, until
 
 pytestmark = BROWSER
 pytest.importorskip("playwright.sync_api", reason="Python Playwright is not installed")
@@ -60,14 +60,6 @@ def _hue(rgb: np.ndarray) -> np.ndarray:
     d = np.where(mx > mn, mx - mn, 1.0)
     h = np.where(mx == r, (g - b) / d % 6, np.where(mx == g, (b - r) / d + 2, (r - g) / d + 4))
     return 60.0 * h
-
-
-def _slider_key(page, label: str, key: str, times: int = 1) -> None:
-    """Focus a viser slider's thumb and press `key` (ArrowRight steps, Home goes to min)."""
-    slider_id = page.locator("label", has_text=label).first.get_attribute("for")
-    page.locator(f'[id="{slider_id}"]').get_by_role("slider").focus()
-    for _ in range(times):
-        page.keyboard.press(key)
 
 
 def _slider_value(page, label: str) -> float:
@@ -142,14 +134,14 @@ def test_two_tabs_have_their_own_sessions_and_an_infeasible_request_is_explained
     assert _tf(other_page) == pytest.approx(tf0, abs=1e-3)
     # An impossible request in the other tab: 10 N cannot hold 600 kg on the Moon. The
     # page says why, keeps the last good trajectory (dimmed), and the first tab still solves.
-    _slider_key(other_page, "thrust F [N]", "Home")
+    slider_key(other_page, "thrust F [N]", "Home")
     assert until(lambda: other.session.values["thrust"] == 10.0 and other.session.wait_idle(60)
                   and other.session.latest.status == "infeasible", "the infeasible answer")
     other_page.get_by_text("the thrust is too weak").first.wait_for(timeout=PATIENCE_MS)
     other_page.get_by_text("last good trajectory (dimmed)").first.wait_for(timeout=PATIENCE_MS)
     assert other.session.last_good.values["thrust"] == 2000.0
-    _slider_key(page, "thrust F [N]", "Home")  # 10 N too: the first tab answers as well
-    _slider_key(page, "thrust F [N]", "End")  # 20 kN: a much faster descent
+    slider_key(page, "thrust F [N]", "Home")  # 10 N too: the first tab answers as well
+    slider_key(page, "thrust F [N]", "End")  # 20 kN: a much faster descent
     until(lambda: view.session.wait_idle(60) and view.session.values["thrust"] == 20000.0
            and view.session.latest.ok, "the first tab to solve the 20 kN case")
     until(lambda: _tf(page) < 0.2 * tf0, "the first tab's page to show the 20 kN descent")
@@ -165,7 +157,7 @@ def test_method_and_node_count_change_the_scene_and_status(tab):
     page.get_by_text("multiple-shooting/ipopt, intervals 30").wait_for(timeout=PATIENCE_MS)
     assert view.session.latest.method == "multiple-shooting" and view.session.latest.ok
     # Node count: focus the slider thumb and step it with the keyboard (two steps).
-    _slider_key(page, "intervals", "ArrowRight", times=2)
+    slider_key(page, "intervals", "ArrowRight", times=2)
     until(lambda: view.session.nodes == 32 and view.session.wait_idle(60),
            "the 32-node solve")
     page.get_by_text("multiple-shooting/ipopt, intervals 32").wait_for(timeout=PATIENCE_MS)
@@ -272,7 +264,7 @@ def test_three_tabs_on_different_missions_move_at_the_same_moment(app, tab):
                and v.session.latest.mission == k and v.session.latest.ok, f"{key} solved")
         opened.append((page, view, label, view.session.latest))
     for page, _, label, _ in opened:  # the three moves, back to back
-        _slider_key(page, label, "ArrowRight", times=2)
+        slider_key(page, label, "ArrowRight", times=2)
     for page, view, _, before in opened:
         until(lambda v=view, b=before: v.session.wait_idle(120) and v.session.latest is not b
                and v.session.latest.ok, f"{view.session.mission.key}'s new optimum")

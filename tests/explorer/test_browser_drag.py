@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from browser_support import BROWSER, PATIENCE, until
+from browser_support import BROWSER, PATIENCE, settled_camera, until
 
 from explorer.panels.value_input import to_display
 from solvers import get_mission
@@ -25,40 +25,12 @@ MISSION_FILES = (str(KEEP_OUT),)  # the module's app (conftest) loads this missi
 
 ARM = 0.6  # where along a gizmo arrow (fraction of its length) the mouse grabs it
 STEPS = 12  # mouse moves of one gesture
-STILL = 1.5  # s without camera motion before the camera is read
-
-
-def _client(view):
-    clients = list(view.camera.clients.values())
-    assert len(clients) == 1
-    return clients[0]
-
-
-def _settled_camera(view) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
-    """(position, look_at, up, vertical fov) of the tab's camera once it has stopped moving
-    for `STILL` s (the framing of a new solution is animated)."""
-    camera = _client(view).camera
-
-    def pose() -> tuple:
-        return (tuple(np.round(camera.position, 9)), tuple(np.round(camera.look_at, 9)),
-                tuple(camera.up_direction), float(camera.fov))
-
-    last, since = pose(), time.monotonic()
-    deadline = since + PATIENCE
-    while time.monotonic() - since < STILL:
-        assert time.monotonic() < deadline, "the camera did not settle"
-        time.sleep(0.05)
-        now = pose()
-        if now != last:
-            last, since = now, time.monotonic()
-    position, look_at, up, fov = last
-    return np.array(position), np.array(look_at), np.array(up), fov
 
 
 def _projector(page, view):
     """A function from a world point to page pixels, from the client's camera (three.js
     perspective: vertical fov, the canvas's aspect)."""
-    position, look_at, up, fov = _settled_camera(view)
+    position, look_at, up, fov = settled_camera(view)
     box = page.locator("canvas").first.bounding_box()
     back = position - look_at
     back /= np.linalg.norm(back)

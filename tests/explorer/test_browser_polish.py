@@ -6,7 +6,7 @@ guess gives a convergence worth replaying."""
 from __future__ import annotations
 
 import numpy as np
-from browser_support import BROWSER, HEIGHT, PATIENCE_MS, WIDTH, until
+from browser_support import BROWSER, HEIGHT, PATIENCE_MS, WIDTH, settled_camera, slider_key, until
 
 pytestmark = BROWSER
 CANVAS = {"x": 0.27 * WIDTH, "y": 0.0, "width": 0.73 * WIDTH, "height": 0.6 * HEIGHT}
@@ -72,6 +72,33 @@ def test_the_camera_frames_the_path_when_its_scale_changes(tab):
         until(lambda x=x0: view.session.wait_idle(60) and view.session.latest.values["x0"] == x
                and view.drawn, f"x0 = {x0} m drawn")
         _framed(page, view, 0.3, f"x0 = {x0} m")
+
+
+def test_the_camera_stays_where_it_was_put_after_a_switch_and_a_slider_key(tab):
+    """Nobody touches the camera: the pose the browser reported before a new mission's
+    framing is not taken for a person's orbit (a later re-framing kept that stale direction),
+    and an arrow key that steps a focused slider steps the slider only (viser's page also
+    turned the camera with it: the asteroid's orbit ended off centre after three steps)."""
+    from solvers import get_mission
+
+    page, view = tab()
+    _solved(view)
+    view.session.select_mission(get_mission("cw-rendezvous"))
+    _solved(view, "cw-rendezvous")
+    cameras = view.camera.cameras
+    position, look_at, _, _ = settled_camera(view)
+    placed = next(iter(cameras._placed.values()))
+    assert np.allclose(position, placed[0]) and np.allclose(look_at, placed[1])
+    assert not cameras.user_view, "a stale camera message was taken for a person's orbit"
+    before = view.session.latest
+    slider_key(page, "total transfer time [s]", "ArrowRight", times=2)
+    until(lambda: view.session.wait_idle(60) and view.session.latest is not before
+          and view.drawn, "the stepped slider's optimum")
+    position, look_at, _, _ = settled_camera(view)
+    placed = next(iter(cameras._placed.values()))
+    assert np.allclose(position, placed[0]) and np.allclose(look_at, placed[1]), \
+        "the arrow keys turned the camera"
+    assert not cameras.user_view
 
 
 def test_the_inertial_cw_view_is_drawn(tab):

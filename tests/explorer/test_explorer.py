@@ -309,6 +309,62 @@ def test_lunar_scene_and_camera_frame_the_descent():
     assert cam.far > np.linalg.norm(cam.position) + moon.radius
 
 
+class _FakeCamera:
+    """What `Cameras` reads and sets of a browser's camera."""
+
+    def __init__(self, client) -> None:
+        self.client, self.aspect, self.image_height = client, 1.5, 700
+        self.position, self.look_at = np.array([3.0, 3.0, 3.0]), np.zeros(3)
+
+    def on_update(self, callback) -> None:
+        self.callback = callback
+
+    def reports(self, position, look_at) -> None:
+        """The browser sends its pose (a message as viser delivers it)."""
+        self.position, self.look_at = np.asarray(position, float), np.asarray(look_at, float)
+        self.callback(self)
+
+
+class _FakeClient:
+    def __init__(self) -> None:
+        self.client_id, self.camera = 7, _FakeCamera(self)
+
+    def atomic(self):
+        import contextlib
+
+        return contextlib.nullcontext()
+
+
+def test_only_a_persons_orbit_sets_the_view_direction():
+    """The pose a browser had before a placement, arriving after it, is not a person's
+    orbit; after the browser echoes the placement, a new pose is (and kept for later
+    framings); a placement never echoed stops being waited for after `ECHO_WAIT_S`."""
+    from explorer import camera as cam_module
+    from solvers import get_mission
+
+    mission = get_mission("lunar-landing")
+    sol = mission.solve(method="hermite-simpson", nodes=20, verify=False)
+    g = build_geometry(mission.present(sol), sol.t, sol.arcs)
+    cameras, client = cam_module.Cameras(100.0), _FakeClient()
+    cameras.attach(client, lambda c: None)
+    old_position, old_look_at = client.camera.position.copy(), client.camera.look_at.copy()
+    cameras.frame(g, None)
+    placed = (np.array(client.camera.position), np.array(client.camera.look_at))
+    client.camera.reports(old_position, old_look_at)  # the pose from before, on its way
+    assert not cameras.user_view
+    client.camera.reports(*placed)  # the echo
+    orbited = placed[1] + np.roll(placed[0] - placed[1], 1)
+    client.camera.reports(orbited, placed[1])  # a person orbits
+    direction = cameras.user_view[7]
+    assert np.allclose(direction, (orbited - placed[1]) / np.linalg.norm(orbited - placed[1]))
+    cameras.frame(g, None)  # a later framing keeps the person's direction
+    back = np.array(client.camera.position) - g.center  # (it aims a little below the centre)
+    assert np.allclose(back / np.linalg.norm(back), direction)
+    cameras._sent_at[7] -= cam_module.ECHO_WAIT_S  # never echoed: after the wait ...
+    client.camera.reports(placed[0], placed[1] + 1.0)
+    assert not np.allclose(cameras.user_view[7], direction)  # ... a pose is a person's again
+
+
 def test_status_line_and_plots():
     sol, _ = _toy_solution()
     sol.quantities = {"tf": Quantity(398.04, "final time", "s")}
