@@ -243,15 +243,16 @@ class Cameras:
         position, look_at = np.asarray(camera.position), np.asarray(camera.look_at)
         scale = max(float(np.linalg.norm(placed[0] - placed[1])), 1e-12)
         moved = (np.linalg.norm(position - placed[0]) + np.linalg.norm(look_at - placed[1]))
+        ours = moved <= 1e-3 * scale  # our own placement coming back, not a person's move
         sent = self._sent_at.get(client.client_id)
         if sent is not None:
-            if moved <= 1e-3 * scale:  # our placement came back: later messages are a person's
+            if ours:  # our placement came back: later messages are a person's
                 del self._sent_at[client.client_id]
                 return
             if time.monotonic() - sent < ECHO_WAIT_S:  # the pose from before, on its way
                 return
             del self._sent_at[client.client_id]
-        if moved > 1e-3 * scale:  # not our own placement coming back: a person moved it
+        if not ours:  # a person moved it
             direction = position - look_at
             if np.linalg.norm(direction) > 0:
                 self.user_view[client.client_id] = direction / np.linalg.norm(direction)

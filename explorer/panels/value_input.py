@@ -221,13 +221,15 @@ class NumberField:
         """The slider (what tests and other code read and move)."""
         return self.slider
 
-    def show(self, value: float) -> None:
-        """Show an SI value in both widgets without applying it again."""
+    def show(self, value: float, box: bool = True) -> None:
+        """Show an SI value in the slider (and the box unless `box` is off) without applying
+        it again."""
         self.value = float(value)
         self._syncing = True
         try:
             self.slider.value = to_display(self.param, value)
-            self.box.value = shown_text(self.param, value)
+            if box:
+                self.box.value = shown_text(self.param, value)
         finally:
             self._syncing = False
 
@@ -265,12 +267,7 @@ class NumberField:
             return
         # The slider follows; the box keeps the text as typed. Writing it back in canonical
         # form could reach the page after a newer entry and overwrite what the user typed.
-        self.value = value
-        self._syncing = True
-        try:
-            self.slider.value = to_display(self.param, value)
-        finally:
-            self._syncing = False
+        self.show(value, box=False)
         self.apply(self.param.key, value)
 
 
