@@ -28,7 +28,8 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from .solution import Iterate, Series, Solution, WarmStart
+from .lgl import interpolate
+from .solution import Iterate, Series, Solution, WarmStart, costate_units
 
 Expr = ca.SX
 
@@ -213,8 +214,6 @@ class OCPResult:
         sol.check["max_defect"] = self.max_violation
         sol.control_interpolation = self.control_interpolation
         if self.costates is not None and self.hamiltonian is not None:
-            from .transcription.costates import costate_units
-
             cost_unit = sol.cost.unit
             sol.costates = Series(self.costates.t, self.costates.values, self.costates.names,
                                   costate_units(cost_unit, sol.state_units))
@@ -226,8 +225,6 @@ class OCPResult:
         """`control` at many times at once: (len(t), nu)."""
         t = np.asarray(t, float)
         if self.control_interpolation == "polynomial":
-            from .transcription.lgl import interpolate
-
             return interpolate(self.t_nodes, self.U, t)
         return np.column_stack([np.interp(t, self.t_nodes, col) for col in self.U.T])
 
@@ -236,7 +233,5 @@ class OCPResult:
         linear, or the polynomial through all nodes (pseudospectral methods); `t` counts from
         the initial time."""
         if self.control_interpolation == "polynomial":
-            from .transcription.lgl import interpolate
-
             return interpolate(self.t_nodes, self.U, np.array([t]))[0]
         return np.array([np.interp(t, self.t_nodes, self.U[:, j]) for j in range(self.U.shape[1])])

@@ -105,6 +105,16 @@ class Series:
         return out
 
 
+def costate_units(cost_unit: str, state_units: tuple[str, ...]) -> tuple[str, ...]:
+    """Units of dJ/dx: the cost's unit per each state's unit."""
+    def per(unit: str) -> str:
+        if not unit:
+            return cost_unit
+        return f"{cost_unit or '1'}/({unit})" if "/" in unit else f"{cost_unit or '1'}/{unit}"
+
+    return tuple(per(u) for u in state_units)
+
+
 @dataclass
 class Iterate:
     """One NLP iterate kept for the iteration replay: node times and states (SI)."""

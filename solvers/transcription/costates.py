@@ -29,7 +29,7 @@ import casadi as ca
 import numpy as np
 
 from ..ocp import OCP, BoundaryPoint, OCPFunctions
-from ..solution import Series
+from ..solution import Series, costate_units
 
 
 @dataclass(frozen=True)
@@ -134,16 +134,6 @@ def hamiltonian_values(fn: OCPFunctions, pts: CostatePoints, p: np.ndarray,
     if fn.lagrange is not None:
         terms = np.column_stack([terms, np.asarray(fn.lagrange.map(K)(pts.X.T, pts.U.T, P)).T])
     return terms.sum(axis=1), float(np.max(np.abs(terms)))
-
-
-def costate_units(cost_unit: str, state_units: tuple[str, ...]) -> tuple[str, ...]:
-    """Units of dJ/dx: the cost's unit per each state's unit."""
-    def per(unit: str) -> str:
-        if not unit:
-            return cost_unit
-        return f"{cost_unit or '1'}/({unit})" if "/" in unit else f"{cost_unit or '1'}/{unit}"
-
-    return tuple(per(u) for u in state_units)
 
 
 def estimate(ocp: OCP, pts: CostatePoints, p: np.ndarray, X_final: np.ndarray, T: float

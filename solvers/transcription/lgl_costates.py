@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .lgl import lgl_differentiation, lgl_nodes, lgl_weights
+from ..lgl import lgl_differentiation, lgl_nodes, lgl_weights
 
 
 def lgl_costates(mu: np.ndarray, A: np.ndarray, T: float,

@@ -13,9 +13,9 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
+from ..lgl import interpolate, lgl_differentiation, lgl_nodes, lgl_weights
 from .costates import CostatePoints, Endpoints, transversality
 from .direct import DirectTranscription
-from .lgl import interpolate, lgl_differentiation, lgl_nodes, lgl_weights
 from .lgl_costates import lgl_costates
 
 

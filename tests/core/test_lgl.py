@@ -1,5 +1,5 @@
 """Legendre–Gauss–Lobatto nodes, weights, differentiation and interpolation
-(solvers/transcription/lgl.py; paper 001, eqs. 2–4)."""
+(solvers/lgl.py; paper 001, eqs. 2–4)."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from numpy.polynomial import legendre as leg
 
-from solvers.transcription.lgl import (
+from solvers.lgl import (
     interpolate,
     lgl_differentiation,
     lgl_nodes,

@@ -6,9 +6,9 @@ import casadi as ca
 import numpy as np
 import pytest
 
+from solvers.lgl import lgl_nodes
 from solvers.ocp import OCP, Bounds, Guess
 from solvers.transcription.hermite_simpson import HermiteSimpson
-from solvers.transcription.lgl import lgl_nodes
 from solvers.transcription.pseudospectral import LGLPseudospectral
 from solvers.verify import repropagate
 

@@ -18,8 +18,7 @@ from ...mission import Mission
 from ...ocp import OCP, OCPResult
 from ...optimality import PMP_COSTATES, PMP_TRAJECTORY, record_costate_error
 from ...problem import Method
-from ...solution import Quantity, Series, Solution
-from ...transcription.costates import costate_units
+from ...solution import Quantity, Series, Solution, costate_units
 from ...verify import repropagate
 from . import problem, view
 from .model import (

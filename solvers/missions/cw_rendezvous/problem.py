@@ -23,8 +23,7 @@ from ...handles import Axis, Handle
 from ...ocp import OCP, Bounds, Guess
 from ...optimality import PMP_COSTATES, PMP_TRAJECTORY, record_costate_error
 from ...problem import Consistency, Param, Preset, Published
-from ...solution import Label, Quantity, Series, Solution
-from ...transcription.costates import costate_units
+from ...solution import Label, Quantity, Series, Solution, costate_units
 from ...verify import repropagate
 from .primer import fit_initial_costate, min_acceleration, solve_primer, switching
 

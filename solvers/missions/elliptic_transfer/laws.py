@@ -22,7 +22,7 @@ from ...dynamics.tschauner_hempel import (
     th_matrices,
     ya_stm,
 )
-from ...transcription.lgl import interpolate, lgl_differentiation, lgl_nodes, lgl_weights
+from ...lgl import interpolate, lgl_differentiation, lgl_nodes, lgl_weights
 from .model import Case
 
 # --- cached discretisations (everything independent of the boundary states) ------------------

@@ -10,11 +10,11 @@ import numpy as np
 from ...context import SolveContext
 from ...dynamics.tschauner_hempel import th_rhs, true_anomaly_clock
 from ...dynamics.two_body import propagate_relative
+from ...lgl import lgl_differentiation, lgl_nodes, lgl_weights
 from ...nlp.cache import built_once
 from ...nlp.casadi_nlp import NLP, status_of
 from ...problem import Method, Param
 from ...solution import Iterate, Quantity, Series, Solution, WarmStart
-from ...transcription.lgl import lgl_differentiation, lgl_nodes, lgl_weights
 from ...verify import repropagate
 from .laws import LawResult, boundary_vector, evaluate_law, plan, solve_law
 from .model import (

@@ -23,8 +23,8 @@ from ...dynamics.tschauner_hempel import (
     lvlh_linear_rhs,
 )
 from ...dynamics.two_body import elements_to_state
+from ...lgl import barycentric_weights
 from ...nlp.cache import built_once
-from ...transcription.lgl import barycentric_weights
 
 STATES = ("x", "y", "z", "vx", "vy", "vz")
 STATE_UNITS = ("m", "m", "m", "m/s", "m/s", "m/s")

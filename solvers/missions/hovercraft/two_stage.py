@@ -18,9 +18,8 @@ from ...context import SolveContext
 from ...ocp import OCPResult
 from ...optimality import PMP_COSTATES, record_costate_error, too_few_nodes
 from ...problem import Method
-from ...solution import Iterate, Quantity, Series, Solution, WarmStart
+from ...solution import Iterate, Quantity, Series, Solution, WarmStart, costate_units
 from ...transcription import direct_transcription
-from ...transcription.costates import costate_units
 from ...verify import repropagate
 from . import problem
 from .model import STATE_UNITS, STATES, X_LB, X_UB, guess_from_steering, solve_min_time
