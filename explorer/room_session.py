@@ -114,14 +114,9 @@ class RoomSession(Session):
     def follow(self) -> None:
         """Follow again: the running and waiting solves are dropped; the room relays the
         case next."""
-        with self._room_lock, self._cond:
+        with self._room_lock:
             self.following = True
-            for request in (self._running, self._pending):
-                if request is not None:
-                    request.cancel.set()
-            self._pending = None
-            self._delivered = self._newest
-            self._cond.notify_all()
+            self._queue.drop()
 
     def set_challenge(self, challenge: Challenge | None) -> None:
         with self._room_lock:
@@ -158,14 +153,14 @@ class RoomSession(Session):
         if mission.key == getattr(self, "locked_mission", None):
             self.values.update({k: v for k, v in self.frozen.items() if k in self.values})
 
-    def _queue(self, compare: tuple[tuple[str, int], ...], cold: bool, refine: bool = False,
+    def _request(self, compare: tuple[tuple[str, int], ...], cold: bool, refine: bool = False,
                starts: int = 1) -> Request:
         with self._room_lock:
             if self.held:  # the view's first solve: the room relays the teacher's instead
                 return Request(0, self.mission, self.method, self.nodes, self.backend,
                                dict(self.values))
             self._moved()
-            return super()._queue(compare, cold, refine, starts)
+            return super()._request(compare, cold, refine, starts)
 
     def _locked(self, mission: Mission) -> bool:
         if self.locked_mission is None or mission.key == self.locked_mission:

@@ -14,22 +14,51 @@ redraws from the solution it has.
 from __future__ import annotations
 
 import itertools
-import threading
-import time
 import traceback
 from collections.abc import Mapping, Sequence
+from typing import Protocol
 
 from solvers.mission import Mission
 from solvers.problem import Preset
 from solvers.solution import Solution
 
-from .requests import Request, SessionListener
+from .request_queue import RequestQueue
+from .requests import Request
 from .runners import LocalRunner, Runner, Solve
 
 __all__ = ["COLD_FACTOR", "DEFAULT_TIME_LIMIT", "Request", "Session", "SessionListener"]
 
 DEFAULT_TIME_LIMIT = 5.0  # s per solve: a slider move never hangs the session
 COLD_FACTOR = 3.0  # a cold solve (no warm start of that method: it may also build the NLP)
+
+
+class SessionListener(Protocol):
+    """What a view hears from its session; every call comes from the session's thread,
+    except `on_config` and `on_view`, which come from whoever changed the state."""
+
+    def on_config(self, session: Session) -> None:
+        """Mission, method or preset changed: rebuild the controls."""
+
+    def on_view(self, session: Session) -> None:
+        """A view option changed: redraw the solution on screen (no solve)."""
+
+    def on_submit(self, request: Request) -> None:
+        """A request was queued (it supersedes every older one)."""
+
+    def on_progress(self, request: Request, iteration: int, message: str) -> None:
+        """The running solve reached `iteration`."""
+
+    def on_result(self, request: Request, solution: Solution) -> None:
+        """A solve finished (any status); `session.last_good` is already updated."""
+
+    def on_check(self, request: Request, solution: Solution) -> None:
+        """The re-propagation check of the solution just delivered has run."""
+
+    def on_error(self, request: Request, message: str) -> None:
+        """The request was rejected (bad input): nothing was solved."""
+
+    def on_compare(self, request: Request, solutions: list[Solution]) -> None:
+        """A comparison finished: one solution per method, checks already run."""
 
 
 class Session:
@@ -49,7 +78,6 @@ class Session:
                  time_limit: float | None = DEFAULT_TIME_LIMIT,
                  runner: Runner | None = None, patience: float = 0.0) -> None:
         self.id = f"session-{next(Session._ids)}"
-        self.patience = patience
         self.auto = auto
         self.time_limit = time_limit
         self.runner: Runner = runner or LocalRunner()
@@ -59,16 +87,9 @@ class Session:
         self.error: str | None = None
         self.preset: str | None = None
         self._seq = itertools.count(1)
-        self._cond = threading.Condition()
-        self._pending: Request | None = None
-        self._running: Request | None = None
-        self._newest = 0
-        self._delivered = 0
-        self._closed = False
         self._configure(mission, method, nodes, {})
         self.view = mission.view_defaults()
-        self._worker = threading.Thread(target=self._work, name="explorer-session", daemon=True)
-        self._worker.start()
+        self._queue = RequestQueue(self._run, patience)
 
     # ---- configuration ----------------------------------------------------------------
     def _configure(self, mission: Mission, method: str | None, nodes: int | None,
@@ -210,7 +231,7 @@ class Session:
         from the last good solution; `refine`: with as many nodes as the accuracy targets
         need; `starts` > 1: from several initial guesses, keeping the best); cancels the
         running and waiting ones."""
-        return self._queue((), cold or starts > 1, refine, starts)
+        return self._request((), cold or starts > 1, refine, starts)
 
     def compare(self, methods: Sequence[str]) -> Request:
         """Queue a comparison: every method in `methods` on the current values (the current
@@ -220,13 +241,13 @@ class Session:
                       for key in methods)
         if not pairs:
             raise ValueError("choose at least one method to compare")
-        return self._queue(pairs, cold=True)
+        return self._request(pairs, cold=True)
 
     def check_from_cold(self) -> Request:
         """Solve the current case again from the initial guess, as a comparison of one, so
         the view can set it beside the answer on screen (does the answer depend on the
         path that led to it?)."""
-        return self._queue(((self.method, self.nodes),), cold=True)
+        return self._request(((self.method, self.nodes),), cold=True)
 
     def request_time_limit(self, compare: bool = False, cold: bool = False) -> float | None:
         """The limit of the next solve: `time_limit`, times `COLD_FACTOR` when it cannot be
@@ -239,7 +260,7 @@ class Session:
             return self.time_limit
         return COLD_FACTOR * self.time_limit
 
-    def _queue(self, compare: tuple[tuple[str, int], ...], cold: bool, refine: bool = False,
+    def _request(self, compare: tuple[tuple[str, int], ...], cold: bool, refine: bool = False,
                starts: int = 1) -> Request:
         limit = self.request_time_limit(bool(compare), cold)
         if limit is not None and (refine or starts > 1):
@@ -247,81 +268,27 @@ class Session:
         request = Request(next(self._seq), self.mission, self.method, self.nodes, self.backend,
                           dict(self.values), limit, compare, cold, refine=refine,
                           starts=starts)
-        with self._cond:
-            running = self._running
-            if running is not None:
-                age = time.monotonic() - running.started
-                if age < self.patience and not running.compare and not compare:
-                    running.superseded.set()
-                    timer = threading.Timer(self.patience - age, self._give_up, (running,))
-                    timer.daemon = True
-                    timer.start()
-                else:
-                    running.cancel.set()
-            if self._pending is not None:
-                self._pending.cancel.set()
-            self._pending = request
-            self._newest = request.seq
-            self._cond.notify_all()
+        self._queue.put(request)
         self._emit("on_submit", request)
         return request
 
-    def _give_up(self, request: Request) -> None:
-        """A superseded solve that is still running after `patience`: cancel it."""
-        with self._cond:
-            if self._running is request:
-                request.cancel.set()
-
     @property
     def busy(self) -> bool:
-        with self._cond:
-            return self._pending is not None or self._running is not None
+        return self._queue.busy
 
     def wait_idle(self, timeout: float | None = None) -> bool:
         """Block until the newest request has been delivered (result, check or error)."""
-        deadline = None if timeout is None else time.monotonic() + timeout
-        with self._cond:
-            while self._delivered < self._newest and not self._closed:
-                left = None if deadline is None else deadline - time.monotonic()
-                if left is not None and left <= 0:
-                    return False
-                self._cond.wait(left)
-            return True
+        return self._queue.wait_idle(timeout)
 
     def close(self) -> None:
         """Stop the session's thread (cancelling any solve); the session cannot be used
         afterwards. Listeners and solutions are dropped so a closed tab frees its memory."""
-        with self._cond:
-            self._closed = True
-            for request in (self._running, self._pending):
-                if request is not None:
-                    request.cancel.set()
-            self._cond.notify_all()
+        self._queue.close()
         self.listeners.clear()
         self.last_good = self.latest = None
 
     def _stale(self, request: Request) -> bool:
-        return request.cancel.is_set() or self._closed
-
-    def _work(self) -> None:
-        while True:
-            with self._cond:
-                while self._pending is None and not self._closed:
-                    self._cond.wait()
-                if self._closed:
-                    return
-                request, self._pending = self._pending, None
-                self._running = request
-            try:
-                self._run(request)
-            except Exception:  # noqa: BLE001 - the session's thread must survive anything
-                traceback.print_exc()
-            finally:
-                with self._cond:
-                    self._running = None
-                    if not self._stale(request):
-                        self._delivered = max(self._delivered, request.seq)
-                    self._cond.notify_all()
+        return self._queue.stale(request)
 
     def _start(self, request: Request, method: str, nodes: int, backend: str | None,
                warm: Solution | None, label: str = ""):
