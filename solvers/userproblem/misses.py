@@ -4,10 +4,9 @@ use names the mission reports."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 import numpy as np
 
+from ..mission import Mission
 from ..problem import validate_values
 from ..solution import Label
 from .declaration import Declaration, resolve
@@ -15,9 +14,6 @@ from .errors import DeclarationError, refine
 from .functions import Traced
 from .locate import dict_key_line
 from .records import unit_key
-
-if TYPE_CHECKING:
-    from .mission import UserMission
 
 # What every direct solve reports besides its quantities (Solution.stats and .check).
 STATS = ("iterations", "nlp_variables", "nlp_constraints", "constraint_violation", "wall_s",
@@ -66,10 +62,9 @@ def known_names(decl: Declaration) -> set[str]:
             | set(miss_names(decl)))
 
 
-def check_names(mission: UserMission, where: str) -> None:
+def check_names(mission: Mission, decl: Declaration, where: str) -> None:
     """Published numbers, consistency records and accuracy targets name what the mission
     reports; presets and published cases set declared parameters only."""
-    decl = mission.declaration
     known = known_names(decl)
     listed = ", ".join(sorted(known))
     for name, what in ([(p.name, "published") for p in mission.published]

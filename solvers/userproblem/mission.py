@@ -119,7 +119,7 @@ class UserMission(Mission):
                      guess_controls(decl, values), parameter_vector(decl, values))
         self._ocp = build_ocp(self.declaration, self._traced)
         self._structure = self.declaration.structure()  # tells warm starts that fit
-        check_names(self, where)
+        check_names(self, self.declaration, where)
         self.labels = screen_labels(self.declaration)
         _check_position(self.declaration)
 
@@ -191,4 +191,4 @@ class UserMission(Mission):
 
     @property
     def help(self) -> str:
-        return view.help_markdown(self)
+        return view.help_markdown(self, self.declaration, self.notes)

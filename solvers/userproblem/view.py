@@ -5,12 +5,11 @@ path constraint, and a help page generated from the declaration."""
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .. import palette
-from ..mission import published_markdown
+from ..mission import Mission, published_markdown
 from ..presentation import Marker, PlotSeries, Presentation, plot_axes
 from ..solution import Solution
 from .build import guess_states, parameter_vector
@@ -18,9 +17,6 @@ from .declaration import Declaration
 from .errors import DeclarationError, call_user, function_location
 from .functions import Traced
 from .records import FreeTime, Named
-
-if TYPE_CHECKING:
-    from .mission import UserMission
 
 
 def _columns(decl: Declaration, x: np.ndarray, p: np.ndarray) -> list[np.ndarray]:
@@ -143,9 +139,8 @@ def _value(v: object) -> str:
     return f"`{v}`" if isinstance(v, str) else f"{v:g}"
 
 
-def help_markdown(mission: UserMission) -> str:
+def help_markdown(mission: Mission, decl: Declaration, notes: str = "") -> str:
     """The About text: summary, source, the declaration as tables, notes, published numbers."""
-    decl = mission.declaration
     lines = [mission.summary, ""] if mission.summary else []
     if mission.source:
         lines += [f"*Source:* {mission.source}", ""]
@@ -168,8 +163,8 @@ def help_markdown(mission: UserMission) -> str:
         lines.append(f"- path constraint {c.name} {_range(c.lower, c.upper)} {c.unit}")
     for c in decl.final:
         lines.append(f"- final constraint {c.name} {_range(c.lower, c.upper)} {c.unit}")
-    if mission.notes:
-        lines += ["", mission.notes]
+    if notes:
+        lines += ["", notes]
     if mission.published:
         lines += ["", published_markdown(mission.published)]
     return "\n".join(lines).strip()
