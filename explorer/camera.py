@@ -13,6 +13,7 @@ import numpy as np
 import viser
 
 from .geometry import Geometry
+from .player import quaternion_from_axes
 
 FOV = math.radians(50.0)
 ELEVATION = 0.06  # how far above the trajectory's plane the camera looks from
@@ -292,8 +293,6 @@ def scale_bar(g: Geometry) -> tuple[np.ndarray, np.ndarray, str]:
 
 def camera_wxyz(cam: Camera) -> np.ndarray:
     """The orientation of `cam` in viser's camera convention (+z forward, +y down)."""
-    from .player import quaternion_from_axes
-
     forward = np.asarray(cam.look_at, float) - np.asarray(cam.position, float)
     return quaternion_from_axes(forward / np.linalg.norm(forward), -np.asarray(cam.up, float))
 

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from typing import Protocol
 
 from solvers.mission import Mission
+from solvers.multistart import multistart
 from solvers.service import Job, SolveService, SolveSpec
 from solvers.solution import Solution
 
@@ -64,8 +65,6 @@ class _LocalPending:
     def result(self) -> Solution:
         s = self.solve
         if s.starts > 1:
-            from solvers.multistart import multistart
-
             self._solution = multistart(s.mission, dict(s.values), s.method, s.nodes,
                                         starts=s.starts, backend=s.backend)
             return self._solution

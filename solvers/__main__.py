@@ -21,6 +21,7 @@ from .mission import Mission
 from .registry import expand_mission_paths, get_mission, list_missions, load_mission_files
 from .service import SolveService, SolveSpec
 from .solution import Solution
+from .sweep import mission_grid
 
 EXIT_BAD_INPUT = 2
 EXIT_NOT_OPTIMAL = 1
@@ -153,8 +154,6 @@ def parse_axes(items: Sequence[str]) -> dict[str, list[float]]:
 
 
 def _cmd_sweep(args: argparse.Namespace) -> int:
-    from .sweep import mission_grid
-
     mission = get_mission(args.mission)
     axes = parse_axes(args.grid)
     fixed = parse_assignments(args.set)
@@ -305,6 +304,8 @@ def _cmd_solve(args: argparse.Namespace) -> int:
 def main(argv: Sequence[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     if argv[:1] == ["launch-map"]:  # its own parser and options
+        # Imported here: every other command starts without the launch map's ephemeris
+        # and porkchop machinery.
         from .missions.asteroid_rendezvous.launch_map import main as launch_map_main
 
         return launch_map_main(argv[1:])

@@ -11,6 +11,8 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
+from .verify import time_budget
+
 if TYPE_CHECKING:
     from .solution import Solution
 
@@ -72,8 +74,6 @@ class SolveContext:
         budget, checker = self.remaining(), sol.checker
         if budget is None or checker is None:
             return
-        from .verify import time_budget
-
         def budgeted() -> dict[str, float]:
             with time_budget(budget):
                 return checker()

@@ -21,10 +21,10 @@ from typing import TYPE_CHECKING
 
 from .refine import NOMINAL_ORDER
 from .solution import Label, Solution
+from .solvable import SolvableMission
 from .verify import checkpoint, remaining_budget, stop_requested
 
 if TYPE_CHECKING:
-    from .mission import Mission
     from .problem import Method
 
 KEY = "cost_error_estimate"
@@ -69,7 +69,7 @@ def order(method: Method) -> float:
     return NOMINAL_ORDER.get(method.transcription, NOMINAL_ORDER[None])
 
 
-def estimate(mission: Mission, sol: Solution, method: Method) -> tuple[float, str]:
+def estimate(mission: SolvableMission, sol: Solution, method: Method) -> tuple[float, str]:
     """(estimate, note): the absolute cost error of `sol` in its cost's unit, or NaN and
     why there is none."""
     other = reference_nodes(method, sol.nodes)
@@ -91,7 +91,7 @@ def estimate(mission: Mission, sol: Solution, method: Method) -> tuple[float, st
     return richardson(sol.cost.value, finer.cost.value, sol.nodes, other, order(method)), ""
 
 
-def with_estimate(mission: Mission, sol: Solution, method: Method,
+def with_estimate(mission: SolvableMission, sol: Solution, method: Method,
                   checker: Callable[[], dict[str, float]]) -> Callable[[], dict[str, float]]:
     """`checker` followed by the cost error estimate (see the module docstring)."""
 
@@ -117,7 +117,7 @@ def with_estimate(mission: Mission, sol: Solution, method: Method,
     return checked
 
 
-def attach(mission: Mission, sol: Solution, method: Method) -> None:
+def attach(mission: SolvableMission, sol: Solution, method: Method) -> None:
     """Make `sol`'s deferred check estimate its cost error too (a converged answer only)."""
     if sol.status == "optimal" and sol.checker is not None:
         sol.checker = with_estimate(mission, sol, method, sol.checker)

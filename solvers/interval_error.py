@@ -19,10 +19,10 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from .solution import Series, Solution
+from .solvable import SolvableMission
 from .verify import RTOL, CheckTimeLimit, bounded
 
 if TYPE_CHECKING:
-    from .mission import Mission
     from .ocp import OCP, OCPResult
 
 # Control of all intervals at once: times (K,) -> controls (K, nu).
@@ -65,7 +65,7 @@ def record(sol: Solution, series: Series) -> None:
     sol.stats["worst_interval_error"] = float(values[k])
 
 
-def checked(mission: Mission, sol: Solution, problem: OCP, p: np.ndarray, res: OCPResult
+def checked(mission: SolvableMission, sol: Solution, problem: OCP, p: np.ndarray, res: OCPResult
             ) -> dict[str, float]:
     """The deferred check of a general method: the re-propagated miss
     (`Mission.check_direct`), the local error of every interval in the headline's unit
@@ -84,7 +84,8 @@ def checked(mission: Mission, sol: Solution, problem: OCP, p: np.ndarray, res: O
     return miss
 
 
-def record_defects(mission: Mission, sol: Solution, t: np.ndarray, rows: np.ndarray) -> None:
+def record_defects(mission: SolvableMission, sol: Solution, t: np.ndarray,
+                   rows: np.ndarray) -> None:
     """A failed answer's dynamics constraints as `interval_error` ("defect"): where it
     fails, in the headline miss's unit; t in the OCP's time unit."""
     norm = mission.interval_error_norm(rows)

@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import cost_error
+from . import cost_error, interval_error
 from .context import (
     DEFAULT_TIME_LIMIT,
     Cancelled,
@@ -32,13 +32,15 @@ from .context import (
 )
 from .handles import Handle, Sphere
 from .optimality import too_few_nodes
+from .presentation import Presentation
 from .problem import Consistency, Method, Param, Preset, Published, validate_values
+from .refine import solve_auto
 from .solution import Label, Quantity, Solution, WarmStart
 from .transcription import DirectTranscription, direct_transcription
+from .verify import repropagate
 
 if TYPE_CHECKING:
     from .ocp import OCP, OCPResult
-    from .presentation import Presentation
 
 # A mission attribute and the names a mission's `problem` module gives it (the first found).
 RECORD_NAMES: dict[str, tuple[str, ...]] = {
@@ -209,8 +211,6 @@ class Mission:
         """
         time_limit = time_limit or None
         if nodes == "auto":
-            from .refine import solve_auto
-
             return solve_auto(self, values, method, tol=tol, backend=backend,
                               warm=None if cold else warm, cold=cold, progress=progress,
                               cancel=cancel, time_limit=time_limit)
@@ -311,8 +311,6 @@ class Mission:
         """Solve with a general transcription of `self.ocp(...)` (no mission code); the
         deferred check adds the interval errors and the indirect reference
         (`interval_error.checked`)."""
-        from . import interval_error
-
         p = self.parameter_vector(values)
         self.precheck(values, p)
         problem = self.ocp(method, values)
@@ -358,8 +356,6 @@ class Mission:
     def check_direct(self, problem: OCP, p: np.ndarray, res: OCPResult) -> dict[str, float]:
         """Re-propagate the method's own control with DOP853 (rtol 1e-10) from the first
         node's state; the terminal miss by `terminal_miss`."""
-        from .verify import repropagate
-
         _, X = repropagate(problem.functions().f, p, res.X[0], res.control, res.t_nodes,
                            atol=self.check_atol(problem))
         return self.terminal_miss(p, X[-1])
@@ -372,8 +368,6 @@ class Mission:
 
     def _present(self, sol: Solution, view: dict[str, float]) -> Presentation:
         """The mission's view (its view.py); this default draws the first three states."""
-        from .presentation import Presentation
-
         def first3(x: np.ndarray) -> np.ndarray:
             out = np.zeros((len(x), 3))
             k = min(3, x.shape[1]) if x.ndim == 2 else 0

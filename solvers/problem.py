@@ -10,6 +10,8 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 
+from .nlp.backends import backend
+
 
 @dataclass(frozen=True)
 class Param:
@@ -100,8 +102,6 @@ class Method:
     options: tuple[tuple[str, int], ...] = ()  # transcription options, e.g. (("substeps", 4),)
 
     def __post_init__(self) -> None:
-        from .nlp.backends import backend
-
         for key in self.backends:
             backend(key)  # raises ValueError naming the known back ends
         lo, default, hi = self.nodes

@@ -28,10 +28,10 @@ from collections.abc import Mapping
 from typing import TYPE_CHECKING
 
 from .solution import Solution
+from .solvable import SolvableMission
 
 if TYPE_CHECKING:
     from .context import ProgressCallback
-    from .mission import Mission
 
 # Convergence order of the terminal miss in the node count, per transcription (the paper's
 # own methods: None). LGL converges spectrally; 4 is a cautious stand-in.
@@ -74,7 +74,7 @@ def _step(sol: Solution, wall: float) -> dict[str, float]:
 
 
 def solve_auto(
-    mission: Mission,
+    mission: SolvableMission,
     values: Mapping[str, float] | None,
     method: str | None,
     *,

@@ -10,7 +10,9 @@ import warnings
 from functools import cache
 from pathlib import Path
 
+from . import missions as builtin_missions
 from .mission import Mission
+from .mission_file import MissionFileError, load_mission_file
 
 _IMPORT_ERRORS: dict[str, str] = {}
 _USER: dict[str, Mission] = {}  # missions from mission files, by key
@@ -29,12 +31,10 @@ MISSION_ORDER = (
 
 @cache
 def _builtin() -> dict[str, Mission]:
-    from . import missions as package
-
     found: dict[str, Mission] = {}
-    for info in sorted(pkgutil.iter_modules(package.__path__), key=lambda i: i.name):
+    for info in sorted(pkgutil.iter_modules(builtin_missions.__path__), key=lambda i: i.name):
         try:
-            module = importlib.import_module(f"{package.__name__}.{info.name}")
+            module = importlib.import_module(f"{builtin_missions.__name__}.{info.name}")
         except Exception as exc:  # noqa: BLE001 - one broken mission must not take down all
             _IMPORT_ERRORS[info.name] = f"{type(exc).__name__}: {exc}"
             warnings.warn(f"mission module '{info.name}' failed to import: {exc}", stacklevel=2)
@@ -92,8 +92,6 @@ def mission_file_of(key: str) -> str | None:
 def load_mission_files(paths: list[str]) -> dict[str, str]:
     """Load and register mission files (a folder stands for its *.py files); returns
     {path: one-line error} for those that failed (the others are registered)."""
-    from .mission_file import MissionFileError, load_mission_file
-
     errors: dict[str, str] = {}
     for path in expand_mission_paths(paths):
         try:

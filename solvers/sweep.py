@@ -24,6 +24,9 @@ from typing import Any
 
 import numpy as np
 
+from .registry import get_mission, list_missions, load_mission_files
+from .service import SolveService, SolveSpec
+
 SCHEDULER_TIMEOUT = "5s"  # an unreachable scheduler is reported after this
 
 
@@ -82,8 +85,6 @@ def solve_summary(mission_key: str, values: Mapping[str, float], method: str | N
     """Solve one request and return its JSON-ready summary (the work unit of mission sweeps
     on a cluster, where the limit is `Mission.solve`'s cooperative one); `mission_files` are
     loaded first when the mission is not known in this process."""
-    from .registry import get_mission, list_missions, load_mission_files
-
     if mission_files and mission_key not in {m.key for m in list_missions()}:
         load_mission_files(list(mission_files))
     return get_mission(mission_key).solve(dict(values), method=method, nodes=nodes,
@@ -141,8 +142,6 @@ def _solve_all(mission_key: str, value_sets: list[dict[str, float]], method: str
         with executor(scheduler, workers) as ex:
             return list(ex.map(solve_summary, [mission_key] * n, value_sets, [method] * n,
                                [nodes] * n, [list(mission_files)] * n, [time_limit] * n))
-    from .service import SolveService, SolveSpec
-
     with SolveService(workers, prebuild=False, mission_files=mission_files) as service:
         jobs = [service.submit(SolveSpec(mission_key, method, nodes, values=dict(v),
                                          time_limit=time_limit))

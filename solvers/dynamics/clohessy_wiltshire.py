@@ -14,6 +14,8 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
+from .two_body import propagate_relative
+
 MU_EARTH = 3.986004418e14  # m^3/s^2
 R_EARTH = 6.378137e6  # m
 
@@ -114,8 +116,6 @@ def nonlinear_relative_miss(
     `two_body.propagate_relative` in its LVLH axes (x radial, y along-track), so the
     components are permuted on the way in and out.
     """
-    from .two_body import propagate_relative
-
     r_t0 = np.array([radius, 0.0, 0.0])
     v_t0 = np.array([0.0, radius * w, 0.0])
     _, rel, _ = propagate_relative(

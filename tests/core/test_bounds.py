@@ -14,7 +14,6 @@ import pytest
 
 import solvers
 from solvers import __main__ as cli
-from solvers import sweep
 from solvers.context import DEFAULT_TIME_LIMIT, SolveContext
 from solvers.mission import Mission
 from solvers.missions.asteroid_rendezvous import launch_map
@@ -37,7 +36,7 @@ def no_work(monkeypatch):
         raise AssertionError("work started before the bad option was refused")
 
     monkeypatch.setattr(cli, "solve_isolated", started)
-    monkeypatch.setattr(sweep, "mission_grid", started)
+    monkeypatch.setattr(cli, "mission_grid", started)
     monkeypatch.setattr(launch_map, "compute_launch_map", started)
 
 
@@ -90,7 +89,7 @@ def test_solve_and_sweep_carry_the_default_time_limit_and_0_means_none(
         return []
 
     monkeypatch.setattr(cli, "solve_isolated", fake_solve)
-    monkeypatch.setattr(sweep, "mission_grid", fake_grid)
+    monkeypatch.setattr(cli, "mission_grid", fake_grid)
     _cli(["solve", "hovercraft", *given])
     _cli(["sweep", "hovercraft", "--grid", "accel=3,4", *given])
     assert seen == {"solve": expected, "sweep": expected}
