@@ -21,7 +21,8 @@ from .room import Room
 from .room_view import RoomView
 from .runners import Runner, ServiceRunner
 from .session import DEFAULT_TIME_LIMIT, Session
-from .view import View, apply_theme
+from .view import View
+from .view_drawing import apply_theme
 
 START_LIMIT = 60.0  # s: the classroom's start-up solve
 
