@@ -65,8 +65,6 @@ def figure_tree(series: Sequence[PlotSeries], dim: bool = False, dark: bool = Tr
     references = [s for s in series if s.group == "reference"]
     series = own
     titles_src = list(series) or (list(overlays[0][2]) if overlays else [])
-    n = len(titles_src)
-    rows, columns = grid(n)
     where = {s.title: i for i, s in enumerate(titles_src)}
     node_color = "#f5f5f5" if dark else "#303030"
     data: list[dict] = []
@@ -101,10 +99,18 @@ def figure_tree(series: Sequence[PlotSeries], dim: bool = False, dark: bool = Tr
                                  name=name, legendgroup=name, showlegend=first,
                                  hoverinfo="x+y+name"))
                 first = False
+    return {"data": data, "layout": _layout(titles_src, dark, bool(overlays), time_unit)}
+
+
+def _layout(titles_src: Sequence[PlotSeries], dark: bool, legend: bool, time_unit: str) -> dict:
+    """The subplot grid of `figure_tree`: one titled axis pair per series, time labelled
+    under the bottom subplot of each column; room for a legend under a comparison."""
+    n = len(titles_src)
+    rows, columns = grid(n)
     layout = {
-        "template": _template(dark), "showlegend": bool(overlays),
+        "template": _template(dark), "showlegend": legend,
         "legend": {"orientation": "h", "y": -0.18, "x": 0.0, "font": {"size": 10}},
-        "margin": {"l": 40, "r": 8, "t": 22, "b": 30 if not overlays else 50},
+        "margin": {"l": 40, "r": 8, "t": 22, "b": 50 if legend else 30},
         "font": {"size": 10}, "paper_bgcolor": "rgba(0,0,0,0)",
         "plot_bgcolor": "#15171c" if dark else "#fafafa", "annotations": [],
     }
@@ -125,7 +131,7 @@ def figure_tree(series: Sequence[PlotSeries], dim: bool = False, dark: bool = Tr
         layout["annotations"].append({
             "text": title, "x": x0 + width / 2, "y": y1, "xref": "paper", "yref": "paper",
             "xanchor": "center", "yanchor": "bottom", "showarrow": False, "font": {"size": 11}})
-    return {"data": data, "layout": layout}
+    return layout
 
 
 def _list(values: Sequence[float] | np.ndarray) -> list[float | None]:

@@ -218,28 +218,9 @@ class Mission:
             warm = None
         targets = self.accuracy_targets(tol)
         vals, m, n = self.validate(values, method, nodes)
-        if backend is not None and backend not in m.backends:
-            known = ", ".join(m.backends) or "none: this method has no choice of back end"
-            raise ValueError(f"method '{m.key}' has no back end '{backend}' (back ends: {known})")
-        if warm is not None and not isinstance(warm, Solution):
-            raise ValueError(f"a warm start must be a Solution, not {type(warm).__name__}")
-        chosen_backend = backend or m.default_backend
+        warm = self._usable_warm(m, backend, warm)
         ctx = SolveContext(progress=progress, cancel=cancel, time_limit=time_limit)
-        if warm is not None and (warm.mission != self.key or warm.method != m.key):
-            warm = None
-        try:
-            if m.transcription is not None and not self.solves_itself(m):
-                sol = self.solve_direct(vals, m, n, chosen_backend, warm, ctx)
-            else:
-                sol = self._solve(vals, m, n, chosen_backend, warm, ctx)
-        except Infeasible as exc:
-            sol = self.empty(vals, m, n, chosen_backend, "infeasible", str(exc))
-        except Cancelled as exc:
-            sol = self.empty(vals, m, n, chosen_backend, "cancelled", str(exc))
-        except TimeLimit as exc:
-            sol = self.empty(vals, m, n, chosen_backend, "time-limit", str(exc))
-        except Exception as exc:  # noqa: BLE001 - a solver failure must never crash a caller
-            sol = self.empty(vals, m, n, chosen_backend, "failed", f"solver failure: {exc}")
+        sol = self._solve_or_say_why(vals, m, n, backend or m.default_backend, warm, ctx)
         sol.stats["wall_s"] = ctx.elapsed()
         sol.stats.setdefault("iterations", ctx.iterations)
         sol.targets = targets
@@ -249,6 +230,35 @@ class Mission:
         if verify and sol.has_trajectory:
             sol.run_check()
         return sol
+
+    def _usable_warm(self, m: Method, backend: str | None, warm: object) -> Solution | None:
+        """Refuse an unknown back end or a warm start that is no `Solution`; a warm start
+        of another mission or method is dropped (the method's initial guess is used)."""
+        if backend is not None and backend not in m.backends:
+            known = ", ".join(m.backends) or "none: this method has no choice of back end"
+            raise ValueError(f"method '{m.key}' has no back end '{backend}' (back ends: {known})")
+        if warm is not None and not isinstance(warm, Solution):
+            raise ValueError(f"a warm start must be a Solution, not {type(warm).__name__}")
+        if warm is not None and (warm.mission != self.key or warm.method != m.key):
+            return None
+        return warm
+
+    def _solve_or_say_why(self, vals: dict[str, float], m: Method, n: int, backend: str,
+                          warm: Solution | None, ctx: SolveContext) -> Solution:
+        """Solve a validated request; an early end becomes a solution without a trajectory
+        whose status says which (infeasible, cancelled, time-limit, failed)."""
+        try:
+            if m.transcription is not None and not self.solves_itself(m):
+                return self.solve_direct(vals, m, n, backend, warm, ctx)
+            return self._solve(vals, m, n, backend, warm, ctx)
+        except Infeasible as exc:
+            return self.empty(vals, m, n, backend, "infeasible", str(exc))
+        except Cancelled as exc:
+            return self.empty(vals, m, n, backend, "cancelled", str(exc))
+        except TimeLimit as exc:
+            return self.empty(vals, m, n, backend, "time-limit", str(exc))
+        except Exception as exc:  # noqa: BLE001 - a solver failure must never crash a caller
+            return self.empty(vals, m, n, backend, "failed", f"solver failure: {exc}")
 
     def empty(
         self, vals: dict[str, float], m: Method, n: int, backend: str, status: str, message: str
