@@ -94,14 +94,11 @@ class SCvxSolver:
         penalty = s.penalty
         phi, f, g = self._merit(z, p, rows, penalty)
         radius, history, status = s.radius, [(0, z.copy())], "Maximum_Iterations_Exceeded"
-        mu = np.zeros(self.n_g)
-        k = 0
+        mu, k = np.zeros(self.n_g), 0
         for k in range(1, s.max_iter + 1):
             if ctx is not None:
                 ctx.report(k, f"SCvx iteration {k}, trust region {radius:.2g}")
-            f0, grad, g0, jac = self._linear(z, p)
-            f0, grad, g0 = float(f0), np.asarray(grad).ravel(), np.asarray(g0).ravel()
-            jac = sp.coo_matrix(jac.sparse())
+            f0, grad, g0, jac = self._linearised(z, p)
             curvature = self._curvature(z, p, mu) if s.curvature else None
             step = qp.solve(f0, grad, g0, jac, z, radius, s, curvature, penalty)
             if step is None:
@@ -122,22 +119,15 @@ class SCvxSolver:
                 penalty *= 10.0  # λ below the multipliers: a stationary point of Φ that
                 phi = self._merit(z, p, rows, penalty)[0]  # is not feasible; penalise harder
                 continue
-            phi_new, f_new, g_new = self._merit(z + d, p, rows, penalty)
-            ratio = (phi - phi_new) / predicted
-            if ratio < s.rho1:  # try a second-order correction (Fletcher): the curvature
-                # the linearisation missed, g(z + d) - J d, as the constant of a second QP
-                shifted = g_new - jac @ d
-                again = qp.solve(f0, grad, shifted, jac, z, radius, s, curvature, penalty)
-                if again is not None:
-                    phi_c, f_c, g_c = self._merit(z + again[0], p, rows, penalty)
-                    if (phi - phi_c) / predicted > ratio:
-                        d, mu_step = again[0], again[2]
-                        phi_new, f_new, g_new = phi_c, f_c, g_c
-                        ratio = (phi - phi_new) / predicted
+            trial = (*self._merit(z + d, p, rows, penalty), mu_step)
+            if (phi - trial[0]) / predicted < s.rho1:
+                d, trial = self._corrected(qp, (f0, grad, jac, curvature), z, p, rows, radius,
+                                           penalty, d, trial, phi, predicted)
+            ratio = (phi - trial[0]) / predicted
             if ratio < s.rho0:
                 radius /= s.shrink
             else:
-                z, phi, f, g, mu = z + d, phi_new, f_new, g_new, mu_step
+                z, (phi, f, g, mu) = z + d, trial
                 history.append((k, z.copy()))
                 if ratio < s.rho1:
                     radius /= s.shrink
@@ -147,11 +137,31 @@ class SCvxSolver:
                 status = ("Solve_Succeeded" if rows.violation(g) <= s.feasible
                           else "Search_Direction_Becomes_Too_Small")
                 break
-        violation = rows.violation(g)
         return NLPResult(x=z, f=f, g=g, lam_x=np.zeros(self.n_x), lam_g=np.zeros(self.n_g),
                          iterations=k, return_status=status,
-                         success=status == "Solve_Succeeded", max_violation=violation,
+                         success=status == "Solve_Succeeded", max_violation=rows.violation(g),
                          history=history[:1] + history[1:][-12:])
+
+    def _linearised(self, z: np.ndarray, p: np.ndarray
+                    ) -> tuple[float, np.ndarray, np.ndarray, sp.coo_matrix]:
+        """f, its gradient, g and its (sparse) Jacobian at z: the subproblem's model."""
+        f0, grad, g0, jac = self._linear(z, p)
+        return (float(f0), np.asarray(grad).ravel(), np.asarray(g0).ravel(),
+                sp.coo_matrix(jac.sparse()))
+
+    def _corrected(self, qp: _Subproblem, model: tuple, z: np.ndarray, p: np.ndarray,
+                   rows: _Rows, radius: float, penalty: float, d: np.ndarray, trial: tuple,
+                   phi: float, predicted: float) -> tuple[np.ndarray, tuple]:
+        """A second-order correction (Fletcher) of a step the merit function rejects: the
+        curvature the linearisation missed, g(z + d) - J d, as the constant of a second QP;
+        kept only if it does better. `trial` is (merit, f, g, multipliers) at z + d."""
+        f0, grad, jac, curvature = model
+        again = qp.solve(f0, grad, trial[2] - jac @ d, jac, z, radius, self.settings,
+                         curvature, penalty)
+        if again is None:
+            return d, trial
+        corrected = (*self._merit(z + again[0], p, rows, penalty), again[2])
+        return (again[0], corrected) if corrected[0] < trial[0] else (d, trial)
 
     def _curvature(self, z: np.ndarray, p: np.ndarray, mu: np.ndarray) -> sp.csc_matrix:
         """The Hessian of the Lagrangian f + μᵀg at z shifted by its most negative eigenvalue
