@@ -25,7 +25,7 @@ import numpy as np
 
 from ...context import SolveContext
 from ...nlp.cache import built_once
-from ...nlp.multiplier_method import solve_multiplier_method
+from ...nlp.multiplier_method import MultiplierResult, solve_multiplier_method
 from .model import MU_MOON, R_MOON
 
 # Scaling of the NLP seen by the multiplier method: tf in units of T_SCALE, the altitude miss
@@ -235,6 +235,22 @@ def decode_trajectory(psi_nodes, p: np.ndarray, n_segments: int,
     return varpi, t, x, np.asarray(psi_dense, dtype=float).ravel()
 
 
+def _outcome(converged: bool, integrable: bool, tf: float, miss: np.ndarray,
+             res: MultiplierResult, integrations: int) -> str:
+    """The solve's message: the optimum's time, or why the multiplier method stopped."""
+    if converged:
+        return (f"converged: tf = {tf:.6f} s in {res.outer_iterations} multiplier / "
+                f"{res.inner_iterations} BFGS iterations, {integrations} integrations")
+    if integrable:
+        return (f"the multiplier method did not converge: altitude miss {miss[0]:.3g} m, "
+                f"radial speed {miss[1]:.3g} m/s after {res.outer_iterations} outer "
+                f"iterations ({res.message})")
+    return ("the multiplier method did not converge: the trajectory cannot be "
+            "integrated in the transformed variable (d varpi/dt <= 0 somewhere: "
+            "|psi| >= 90 deg, or the thrust is too weak to brake the orbital rate)"
+            + ("" if res.outer_iterations > 1 else " already at the initial guess"))
+
+
 def solve_integral_transform(
     r0: float,
     omega0: float,
@@ -259,8 +275,7 @@ def solve_integral_transform(
     re-interpolated if N changed). The multipliers start at the paper's (10, 10) unless
     `warm_lam` (a previous result's `lam`, scaled units) is given.
     """
-    n = int(n_segments)
-    steps = int(steps_per_segment)
+    n, steps = int(n_segments), int(steps_per_segment)
     if n < 1 or steps < 1:
         raise ValueError("n_segments and steps_per_segment must be >= 1")
     if not omega0 > 0:
@@ -284,22 +299,9 @@ def solve_integral_transform(
     integrable = bool(np.isfinite(ev(z)[0])) and bool(np.all(np.isfinite(x_dense)))
     violation = float(np.max(np.abs(h_si))) if integrable else float("inf")
     converged = bool(res.converged and integrable)
-    if converged:
-        message = (f"converged: tf = {tf:.6f} s in {res.outer_iterations} multiplier / "
-                   f"{res.inner_iterations} BFGS iterations, {ev.count} integrations")
-    elif integrable:
-        message = (f"the multiplier method did not converge: altitude miss {h_si[0]:.3g} m, "
-                   f"radial speed {h_si[1]:.3g} m/s after {res.outer_iterations} outer "
-                   f"iterations ({res.message})")
-    else:
-        message = ("the multiplier method did not converge: the trajectory cannot be "
-                   "integrated in the transformed variable (d varpi/dt <= 0 somewhere: "
-                   "|psi| >= 90 deg, or the thrust is too weak to brake the orbital rate)"
-                   + ("" if res.outer_iterations > 1 else " already at the initial guess"))
-    history = []
-    for it, zk in res.history:
-        _, tk, xk, _ = decode_trajectory(zk, p, n, steps)
-        history.append((it, tk[idx], xk[idx]))
+    message = _outcome(converged, integrable, tf, h_si, res, ev.count)
+    history = [(it, tk[idx], xk[idx]) for it, zk in res.history
+               for _, tk, xk, _ in [decode_trajectory(zk, p, n, steps)]]
     return IntegralTransformResult(
         varpi_nodes=varpi[idx], psi_nodes=z.copy(), t_nodes=t_dense[idx], x_nodes=x_dense[idx],
         t_dense=t_dense, x_dense=x_dense, psi_dense=psi_dense, tf=tf,
