@@ -14,7 +14,7 @@ import casadi as ca
 import numpy as np
 
 from ..context import SolveContext
-from ..nlp.casadi_nlp import NLP, status_of
+from ..nlp.casadi_nlp import NLP, NLPResult, status_of
 from ..ocp import OCP, BoundaryPoint, OCPResult
 from ..optimality import active_state_bounds
 from ..solution import Iterate, Series, WarmStart
@@ -232,18 +232,10 @@ class DirectTranscription(ABC):
         re-interpolated from `warm` otherwise, from the problem's guess without `warm`;
         on the mesh `tau` (N+1 increasing positions from 0 to 1) where the method has a
         `variable_mesh`, else on its own."""
-        p = np.asarray(p, float)
-        tau = self._checked_mesh(tau)
+        p, tau = np.asarray(p, float), self._checked_mesh(tau)
         lbx, ubx = self._box(p)
         lbg, ubg = self._g_bounds()
-        lam_x = lam_g = None
-        if self.reuses(warm):
-            z0 = warm.z.copy()
-            lam_x, lam_g = warm.lam_x, warm.lam_g
-        elif warm is not None:
-            z0 = self._warm_guess(warm, p, tau)
-        else:
-            z0 = self._cold_guess(p, tau)
+        z0, lam_x, lam_g = self._start(warm, p, tau)
         z0 = np.clip(z0, lbx, ubx)
         nlp_p = np.concatenate([p, np.diff(tau)]) if self.variable_mesh else p
         res = self.nlp.solve(z0, nlp_p, lbx, ubx, lbg, ubg, lam_x, lam_g, ctx)
@@ -258,19 +250,10 @@ class DirectTranscription(ABC):
         if active and status == "optimal":
             message += (f"; state bound active on {', '.join(active)}: the costates may jump "
                         "there (the maximum principle applies in its state-constrained form)")
-        costates = hamiltonian = None
-        variation = float("nan")
-        if len(res.lam_g) and np.any(res.lam_g[: self.n_defects] != 0):
-            ends = Endpoints(X[0], X[-1], t0, T, statics,
-                             res.lam_g[self.n_defects:self.n_defects + self.n_terminal
-                                       + self.n_boundary],
-                             res.lam_x[:self.ocp.nx],
-                             res.lam_x[self.N * self.ocp.nx:(self.N + 1) * self.ocp.nx])
-            costates, hamiltonian, variation = self.costates(res.lam_g, X, U, p, ends, tau)
-        history = []
-        for k, z in res.history:
-            Xk, _, Tk, _, _ = self._unpack(z, p)
-            history.append(Iterate(k, tau * Tk, Xk))
+        costates, hamiltonian, variation = self._costate_estimate(res, X, U, p, t0, T,
+                                                                  statics, tau)
+        history = [Iterate(k, tau * Tk, Xk) for k, z in res.history
+                   for Xk, _, Tk, _, _ in [self._unpack(z, p)]]
         return OCPResult(
             T=T,
             t_nodes=tau * T,
@@ -297,6 +280,30 @@ class DirectTranscription(ABC):
             hamiltonian_variation=variation,
             defects=self.defect_points(res.g[:self.n_defects], T, tau),
         )
+
+    def _start(self, warm: WarmStart | None, p: np.ndarray, tau: np.ndarray
+               ) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None]:
+        """The NLP's start and multipliers: `warm` itself where it fits this mesh, else
+        re-interpolated from it, else the problem's guess (no multipliers)."""
+        if self.reuses(warm):
+            return warm.z.copy(), warm.lam_x, warm.lam_g
+        if warm is not None:
+            return self._warm_guess(warm, p, tau), None, None
+        return self._cold_guess(p, tau), None, None
+
+    def _costate_estimate(self, res: NLPResult, X: np.ndarray, U: np.ndarray, p: np.ndarray,
+                          t0: float, T: float, statics: np.ndarray, tau: np.ndarray
+                          ) -> tuple[Series | None, Series | None, float]:
+        """Costates and Hamiltonian from the defects' multipliers (none when the NLP
+        returned none), with the Hamiltonian's relative variation."""
+        if not (len(res.lam_g) and np.any(res.lam_g[: self.n_defects] != 0)):
+            return None, None, float("nan")
+        ends = Endpoints(X[0], X[-1], t0, T, statics,
+                         res.lam_g[self.n_defects:self.n_defects + self.n_terminal
+                                   + self.n_boundary],
+                         res.lam_x[:self.ocp.nx],
+                         res.lam_x[self.N * self.ocp.nx:(self.N + 1) * self.ocp.nx])
+        return self.costates(res.lam_g, X, U, p, ends, tau)
 
     def _checked_mesh(self, tau: np.ndarray | None) -> np.ndarray:
         """The solve's mesh: `tau` when given (refused unless the method takes a mesh and
