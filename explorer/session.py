@@ -24,7 +24,7 @@ from solvers.solution import Solution
 
 from .request_queue import RequestQueue
 from .requests import Request
-from .runners import LocalRunner, Runner, Solve
+from .runners import LocalRunner, Pending, Runner, Solve
 
 __all__ = ["COLD_FACTOR", "DEFAULT_TIME_LIMIT", "Request", "Session", "SessionListener"]
 
@@ -291,7 +291,7 @@ class Session:
         return self._queue.stale(request)
 
     def _start(self, request: Request, method: str, nodes: int, backend: str | None,
-               warm: Solution | None, label: str = ""):
+               warm: Solution | None, label: str = "") -> Pending:
         def progress(iteration: int, message: str) -> None:
             if not self._stale(request):
                 self._emit("on_progress", request, iteration, label or message)
@@ -307,10 +307,8 @@ class Session:
             return
         warm = None if request.cold else self.last_good
         pending = self._start(request, request.method, request.nodes, request.backend, warm)
-        try:
-            sol = pending.result()
-        except ValueError as exc:
-            self._reject(request, exc)
+        sol = self._answer(request, pending)
+        if sol is None:
             return
         if self._stale(request):
             pending.cancel()
@@ -330,11 +328,16 @@ class Session:
         if not self._stale(request):
             self._emit("on_check", request, sol)
 
-    def _reject(self, request: Request, exc: ValueError) -> None:
-        """Bad input: say why (unless a newer request already replaced this one)."""
-        if not self._stale(request):
-            self.error = str(exc)
-            self._emit("on_error", request, str(exc))
+    def _answer(self, request: Request, pending: Pending) -> Solution | None:
+        """The solve's answer; None after bad input, which is said (unless a newer request
+        already replaced this one)."""
+        try:
+            return pending.result()
+        except ValueError as exc:
+            if not self._stale(request):
+                self.error = str(exc)
+                self._emit("on_error", request, str(exc))
+            return None
 
     def _run_compare(self, request: Request) -> None:
         """Start every method of the comparison (in parallel where the runner can), then
@@ -346,12 +349,8 @@ class Session:
                                               label=f"comparing: {key}")))
         solutions = []
         for _key, pending in pendings:
-            try:
-                sol = pending.result()
-            except ValueError as exc:
-                self._reject(request, exc)
-                return
-            if self._stale(request):
+            sol = self._answer(request, pending)
+            if sol is None or self._stale(request):
                 return
             solutions.append((sol, pending))
         for sol, pending in solutions:

@@ -4,10 +4,10 @@ an indirect (Pontryagin) multiple-shooting reference, and the published numbers.
 from __future__ import annotations
 
 import json
-import pickle
 
 import numpy as np
 import pytest
+from mission_checks import pickled
 
 import solvers
 from solvers.missions.apollo_reentry import R_EARTH, indirect_solution
@@ -108,8 +108,7 @@ def test_exaggeration_is_display_only(default_solutions):
 @pytest.mark.parametrize("method", METHODS)
 def test_every_method_pickles_and_presents(default_solutions, method):
     sol = default_solutions[method]
-    copy = pickle.loads(pickle.dumps(sol))
-    assert copy.checker is None and copy.cost.value == sol.cost.value
+    copy = pickled(sol)
     assert copy.warm is not None and copy.warm.X.shape == sol.warm.X.shape
     param = MISSION.view_params[0]
     for k in (param.min, param.default, param.max):

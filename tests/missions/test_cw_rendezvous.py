@@ -4,10 +4,9 @@ check and the presentation. Cross-method agreement on the burn time is the missi
 
 from __future__ import annotations
 
-import pickle
-
 import numpy as np
 import pytest
+from mission_checks import pickled
 from scipy.integrate import solve_ivp
 
 import solvers
@@ -117,8 +116,7 @@ def test_inertial_view_preset_sets_only_the_view():
 @pytest.mark.parametrize("method", METHODS)
 def test_every_method_pickles_and_presents(default_solutions, method):
     sol = default_solutions[method]
-    copy = pickle.loads(pickle.dumps(sol))
-    assert copy.checker is None and copy.cost.value == sol.cost.value
+    copy = pickled(sol)
     assert copy.warm is not None and copy.warm.X.shape == sol.warm.X.shape
     assert copy.node_u.shape == (len(sol.node_t), 3)
     for frame in (0, 1):

@@ -4,11 +4,10 @@ checks, the generated help tables and the presentation."""
 
 from __future__ import annotations
 
-import pickle
-
 import casadi as ca
 import numpy as np
 import pytest
+from mission_checks import pickled
 from scipy.integrate import solve_ivp
 
 from solvers.dynamics.tschauner_hempel import (
@@ -355,8 +354,7 @@ def test_deferred_check_adds_the_nonlinear_reference_not_drawing() -> None:
 @pytest.mark.parametrize("method", ["stm-law", "seq-law", "lgl-nlp"])
 def test_every_method_pickles_and_presents(paper_solutions, method) -> None:
     sol = paper_solutions[method]
-    copy = pickle.loads(pickle.dumps(sol))
-    assert copy.checker is None and copy.cost.value == sol.cost.value
+    copy = pickled(sol)
     assert "nonlinear model" in copy.references
     if method == "lgl-nlp":
         assert copy.warm is not None and copy.warm.kind == "lgl-nlp" and copy.history

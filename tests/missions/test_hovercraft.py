@@ -4,10 +4,10 @@ by every direct method, from both of the paper's guesses, against the published 
 from __future__ import annotations
 
 import json
-import pickle
 
 import numpy as np
 import pytest
+from mission_checks import pickled
 
 import solvers
 from solvers.missions.hovercraft.model import cold_guess, solve_min_time
@@ -141,8 +141,7 @@ def test_maximum_principle_reference_is_stored_numerically(solved, pontryagin):
 @pytest.mark.parametrize("method", [m.key for m in MISSION.methods])
 def test_every_method_pickles_and_presents(solved, method):
     sol = solved("hovercraft", method)
-    copy = pickle.loads(pickle.dumps(sol))
-    assert copy.checker is None and copy.cost.value == sol.cost.value
+    copy = pickled(sol)
     assert copy.warm is not None and copy.warm.X.shape == sol.warm.X.shape
     assert copy.references.keys() == sol.references.keys()
     pres = MISSION.present(copy)
