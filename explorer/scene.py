@@ -15,13 +15,12 @@ not sent at all, so a label at the origin stayed where the last mission had put 
 
 from __future__ import annotations
 
-import json
-from importlib import resources
 from typing import Any
 
 import numpy as np
 import viser
 
+from .asset_files import asset_bytes, vehicle_mesh
 from .camera import scale_bar
 from .geometry import (
     ARROW,
@@ -38,21 +37,15 @@ from .player import Pose
 VEHICLE_FRACTION = 0.035  # vehicle length as a fraction of the trajectory extent
 
 
-def asset_bytes(name: str) -> bytes | None:
-    """A file of the installed `assets` package (None if missing)."""
-    try:
-        return resources.files("assets").joinpath(name).read_bytes()
-    except (FileNotFoundError, ModuleNotFoundError, OSError):
-        return None
-
-
-def vehicle_mesh(vehicle: str) -> bytes | None:
-    """GLB bytes of a vehicle (a mission key or mesh name of assets/vehicles.json)."""
-    table_bytes = asset_bytes("vehicles.json")
-    if table_bytes is None:
-        return None
-    table = json.loads(table_bytes)
-    return asset_bytes(f"{table.get(vehicle, table['default'])}.glb")
+def _in_place(store: dict, name: str, count: int) -> tuple[bool, Any]:
+    """(anything to draw, the handle `name` to update in place or None to add it anew); with
+    nothing to draw the old handle is hidden, never removed (it comes back in place)."""
+    handle = store.get(name)
+    if not count:
+        if handle is not None and handle.visible:
+            handle.visible = False
+        return False, None
+    return True, None if handle is None or _removed(handle) else handle
 
 
 def _removed(handle: Any) -> bool:
@@ -138,14 +131,12 @@ class SceneView:
 
     def _segments(self, name: str, store: dict, segments: np.ndarray, colors: np.ndarray,
                   thickness: float) -> None:
-        handle = store.get(name)
-        if not len(segments):
-            if handle is not None and handle.visible:
-                handle.visible = False
+        draw, handle = _in_place(store, name, len(segments))
+        if not draw:
             return
         pts = np.asarray(segments, np.float32)
         cols = line_colors(colors)
-        if handle is None or _removed(handle):
+        if handle is None:
             store[name] = self.scene.add_line_segments(self._name(name), pts, cols,
                                                        thickness=thickness,
                                                        thickness_units="screen")
@@ -157,14 +148,12 @@ class SceneView:
             handle.visible = True
 
     def _points(self, name: str, points: np.ndarray, size: float) -> None:
-        handle = self._solution.get(name)
-        color = np.array(NODE if self.dark else NODE_LIGHT, np.uint8)
-        if not len(points):
-            if handle is not None:
-                handle.visible = False
+        draw, handle = _in_place(self._solution, name, len(points))
+        if not draw:
             return
+        color = np.array(NODE if self.dark else NODE_LIGHT, np.uint8)
         pts = np.asarray(points, np.float32)
-        if handle is None or _removed(handle):
+        if handle is None:
             self._solution[name] = self.scene.add_point_cloud(
                 self._name(name), pts, color, point_size=size, point_shape="circle",
                 precision="float32")
@@ -174,13 +163,11 @@ class SceneView:
         self.updates += 1
 
     def _arrows(self, name: str, arrows: np.ndarray, size: float) -> None:
-        handle = self._solution.get(name)
-        if not len(arrows):
-            if handle is not None:
-                handle.visible = False
+        draw, handle = _in_place(self._solution, name, len(arrows))
+        if not draw:
             return
         pts = np.asarray(arrows, np.float32)
-        if handle is None or _removed(handle):
+        if handle is None:
             self._solution[name] = self.scene.add_arrows(
                 self._name(name), pts, ARROW, shaft_radius=0.25 * size, head_radius=0.8 * size,
                 head_length=2.0 * size)

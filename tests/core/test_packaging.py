@@ -12,7 +12,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 
 PROBE = """
-from explorer.scene import vehicle_mesh
+from explorer.asset_files import vehicle_mesh
 import solvers
 mesh = vehicle_mesh("lunar-landing")
 assert mesh is not None and mesh[:4] == b"glTF", "no lander mesh"
