@@ -165,11 +165,11 @@ class Handles:
     def on_submit(self, request: Request) -> None:
         """New values went to the solver: sliders, boxes and handles follow them."""
         for key, field in list(self.controls.fields.items()):
-            value = request.values.get(key)
+            value = request.solve.values.get(key)
             if value is not None and field.value != value:
                 field.show(value)
         with self._lock:
-            self._sync(request.values)
+            self._sync(request.solve.values)
 
     # ---- drawing -------------------------------------------------------------------------
     def _add(self, handle: Handle, shape: Sphere | None) -> _Drawn:

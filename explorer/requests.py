@@ -7,25 +7,27 @@ import time
 from dataclasses import dataclass, field
 
 from solvers.mission import Mission
+from solvers.request import SolveRequest
 
 
 @dataclass(frozen=True)
 class Request:
-    """A snapshot of what to solve; `cancel` is set when a newer request supersedes it."""
+    """A snapshot of what to solve: `solve`, the record the runner hands on unchanged (nodes
+    "auto" when refining), or the `compare` requests, one per method of a comparison.
+    `mission` is the object behind `solve.mission` (a test's own mission need not be in the
+    registry). `cancel` is set when a newer request supersedes this one."""
 
     seq: int
     mission: Mission
-    method: str
-    nodes: int
-    backend: str | None
-    values: dict[str, float]
-    time_limit: float | None = None
-    compare: tuple[tuple[str, int], ...] = ()  # (method, nodes) pairs of a comparison
-    cold: bool = False
-    refine: bool = False  # nodes "auto": refine until the accuracy targets are met
-    starts: int = 1  # several cold starts, keep the best
+    solve: SolveRequest
+    compare: tuple[SolveRequest, ...] = ()
     cancel: threading.Event = field(default_factory=threading.Event, compare=False)
     # A newer request came in, but this one may finish and be drawn (a slider drag shows
     # its intermediate optima); its check is skipped.
     superseded: threading.Event = field(default_factory=threading.Event, compare=False)
     started: float = field(default_factory=time.monotonic, compare=False)
+
+    @property
+    def refine(self) -> bool:
+        """Refine until the accuracy targets are met."""
+        return self.solve.nodes == "auto"

@@ -223,8 +223,8 @@ class Room:
         good = case.last_good
         if good is not None and good.mission == lead.mission.key and good.converged:
             lead.last_good = good
-        lead.restore(case.mission, case.method, case.nodes, case.values, case.view,
-                     case.backend)
+        c = case.solve
+        lead.restore(case.mission, c.method, c.nodes, c.values, case.view, c.backend)
 
     # ---- the teacher's camera and clock ----------------------------------------------
     def set_sharing(self, on: bool) -> None:
@@ -254,11 +254,11 @@ class Room:
         case = self.case
         if case is None:
             raise ValueError("there is no case on the projector yet")
-        unknown = [k for k in frozen if k not in case.values]
+        unknown = [k for k in frozen if k not in case.solve.values]
         if unknown:
             raise ValueError(f"{', '.join(unknown)}: not a parameter of {case.mission.key}")
         challenge = Challenge(case.mission.key, goal.strip() or "least cost",
-                              {k: case.values[k] for k in frozen})
+                              {k: case.solve.values[k] for k in frozen})
         with self._lock:
             self.challenge, self.board = challenge, Leaderboard(challenge)
             for member in self.students():
@@ -306,8 +306,7 @@ class Room:
             return
         self._queue.put((case, "on_config", (None,), members))
         if case.latest is not None:
-            request = case.request or Request(0, case.mission, case.method, case.nodes,
-                                              case.backend, dict(case.values))
+            request = case.request or Request(0, case.mission, case.solve)
             self._queue.put((case, "on_result", (request, case.latest), members))
             if case.checked:
                 self._queue.put((case, "on_check", (request, case.latest), members))

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from solvers.mission import Mission
+from solvers.request import SolveRequest
 from solvers.solution import Solution
 
 from .requests import Request
@@ -26,10 +27,7 @@ class Case:
     """A snapshot of the teacher's case: what a follower's session mirrors."""
 
     mission: Mission
-    method: str
-    nodes: int
-    backend: str | None
-    values: dict[str, float]
+    solve: SolveRequest  # method, nodes, back end and values
     view: dict[str, float]
     preset: str | None
     last_good: Solution | None
@@ -40,15 +38,15 @@ class Case:
     @classmethod
     def of(cls, session: Session, request: Request | None = None,
            checked: bool = False) -> Case:
-        return cls(session.mission, session.method, session.nodes, session.backend,
-                   dict(session.values), dict(session.view), session.preset,
+        return cls(session.mission, session.case(), dict(session.view), session.preset,
                    session.last_good, session.latest, request, checked)
 
     def apply(self, session: Session) -> None:
         """Set `session`'s state to this case (no event, no solve)."""
-        session.mission, session.method, session.nodes = self.mission, self.method, self.nodes
-        session.backend, session.preset = self.backend, self.preset
-        session.values, session.view = dict(self.values), dict(self.view)
+        s = self.solve
+        session.mission, session.method, session.nodes = self.mission, s.method, s.nodes
+        session.backend, session.preset = s.backend, self.preset
+        session.values, session.view = dict(s.values), dict(self.view)
         session.last_good, session.latest = self.last_good, self.latest
 
 
@@ -157,8 +155,7 @@ class RoomSession(Session):
                starts: int = 1) -> Request:
         with self._room_lock:
             if self.held:  # the view's first solve: the room relays the teacher's instead
-                return Request(0, self.mission, self.method, self.nodes, self.backend,
-                               dict(self.values))
+                return Request(0, self.mission, self.case())
             self._moved()
             return super()._request(compare, cold, refine, starts)
 

@@ -6,32 +6,15 @@ solve early, wherever it runs."""
 from __future__ import annotations
 
 import threading
-from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from collections.abc import Callable
 from typing import Protocol
 
 from solvers.mission import Mission
-from solvers.multistart import multistart
-from solvers.service import Job, SolveService, SolveSpec
+from solvers.request import SolveRequest
+from solvers.service import Job, SolveService
 from solvers.solution import Solution
 
 Progress = Callable[[int, str], None]
-
-
-@dataclass(frozen=True)
-class Solve:
-    """One solve of a request (a session's request, or one method of a comparison)."""
-
-    mission: Mission
-    method: str
-    nodes: int | str  # a count, or "auto": refine until the accuracy targets are met
-    backend: str | None
-    values: Mapping[str, float]
-    warm: Solution | None
-    time_limit: float | None
-    session: str = ""
-    cold: bool = False  # from the initial guess (and every refinement step too)
-    starts: int = 1  # several cold starts, keep the best
 
 
 class Pending(Protocol):
@@ -52,26 +35,22 @@ class Pending(Protocol):
 
 
 class Runner(Protocol):
-    def start(self, solve: Solve, cancel: threading.Event, progress: Progress | None
-              ) -> Pending:
-        """Start a solve; `cancel` set from any thread stops it."""
+    def start(self, mission: Mission, request: SolveRequest, *, warm: Solution | None,
+              session: str, cancel: threading.Event, progress: Progress | None) -> Pending:
+        """Start solving `request` on `mission`, warm from `warm` (None: cold) for
+        `session`; `cancel` set from any thread stops it."""
 
 
 class _LocalPending:
-    def __init__(self, solve: Solve, cancel: threading.Event, progress: Progress | None):
-        self.solve, self.cancel_event, self.progress = solve, cancel, progress
+    def __init__(self, mission: Mission, request: SolveRequest, warm: Solution | None,
+                 cancel: threading.Event, progress: Progress | None):
+        self.mission, self.request, self.warm = mission, request, warm
+        self.cancel_event, self.progress = cancel, progress
         self._solution: Solution | None = None
 
     def result(self) -> Solution:
-        s = self.solve
-        if s.starts > 1:
-            self._solution = multistart(s.mission, dict(s.values), s.method, s.nodes,
-                                        starts=s.starts, backend=s.backend)
-            return self._solution
-        self._solution = s.mission.solve(
-            dict(s.values), s.method, s.nodes, backend=s.backend, warm=s.warm, cold=s.cold,
-            progress=self.progress, cancel=self.cancel_event, time_limit=s.time_limit,
-            verify=False)
+        self._solution = self.request.run(self.mission, warm=self.warm, progress=self.progress,
+                                          cancel=self.cancel_event, verify=False)
         return self._solution
 
     def check(self) -> None:
@@ -88,17 +67,17 @@ class _LocalPending:
 class LocalRunner:
     """Solves in the calling thread of this process (no isolation: tests, scripts)."""
 
-    def start(self, solve: Solve, cancel: threading.Event, progress: Progress | None
-              ) -> Pending:
-        return _LocalPending(solve, cancel, progress)
+    def start(self, mission: Mission, request: SolveRequest, *, warm: Solution | None,
+              session: str, cancel: threading.Event, progress: Progress | None) -> Pending:
+        return _LocalPending(mission, request, warm, cancel, progress)
 
 
 POLL_S = 0.02  # how often a waiting session looks at its cancel event
 
 
 class _ServicePending:
-    def __init__(self, job: Job, solve: Solve, cancel: threading.Event) -> None:
-        self.job, self.solve, self.cancel_event = job, solve, cancel
+    def __init__(self, job: Job, mission: Mission, cancel: threading.Event) -> None:
+        self.job, self.mission, self.cancel_event = job, mission, cancel
 
     def _wait(self, event: threading.Event) -> bool:
         """Wait for `event`; False as soon as the request is cancelled (the job is told to
@@ -111,10 +90,10 @@ class _ServicePending:
 
     def result(self) -> Solution:
         if not self._wait(self.job.done):
-            s = self.solve
-            nodes = s.nodes if isinstance(s.nodes, int) else s.mission.method(s.method).nodes[1]
-            return s.mission.empty(dict(s.values), s.mission.method(s.method), nodes,
-                                   s.backend or "", "cancelled", "cancelled by a newer request")
+            r, method = self.job.request, self.mission.method(self.job.request.method)
+            nodes = r.nodes if isinstance(r.nodes, int) else method.nodes[1]
+            return self.mission.empty(dict(r.values), method, nodes, r.backend or "",
+                                      "cancelled", "cancelled by a newer request")
         return self.job.result()
 
     def check(self) -> None:
@@ -136,13 +115,11 @@ class ServiceRunner:
     def __init__(self, service: SolveService) -> None:
         self.service = service
 
-    def start(self, solve: Solve, cancel: threading.Event, progress: Progress | None
-              ) -> Pending:
-        spec = SolveSpec(solve.mission.key, solve.method, solve.nodes, solve.backend,
-                         dict(solve.values), None if solve.cold else solve.warm,
-                         solve.time_limit, starts=solve.starts, cold=solve.cold)
-        job = self.service.submit(spec, session=solve.session, progress=progress)
-        return _ServicePending(job, solve, cancel)
+    def start(self, mission: Mission, request: SolveRequest, *, warm: Solution | None,
+              session: str, cancel: threading.Event, progress: Progress | None) -> Pending:
+        job = self.service.submit(request, session=session, progress=progress,
+                                  warm=None if request.cold else warm)
+        return _ServicePending(job, mission, cancel)
 
     def forget(self, session: str) -> None:
         self.service.forget(session)

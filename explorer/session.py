@@ -16,15 +16,17 @@ from __future__ import annotations
 import itertools
 import traceback
 from collections.abc import Mapping, Sequence
+from dataclasses import replace
 from typing import Protocol
 
 from solvers.mission import Mission
 from solvers.problem import Preset
+from solvers.request import SolveRequest
 from solvers.solution import Solution
 
 from .request_queue import RequestQueue
 from .requests import Request
-from .runners import LocalRunner, Pending, Runner, Solve
+from .runners import LocalRunner, Pending, Runner
 
 __all__ = ["COLD_FACTOR", "DEFAULT_TIME_LIMIT", "Request", "Session", "SessionListener"]
 
@@ -260,14 +262,22 @@ class Session:
             return self.time_limit
         return COLD_FACTOR * self.time_limit
 
+    def case(self) -> SolveRequest:
+        """The current state as the record a runner solves."""
+        return SolveRequest(self.mission.key, self.method, self.nodes, self.backend,
+                            dict(self.values), self.time_limit)
+
     def _request(self, compare: tuple[tuple[str, int], ...], cold: bool, refine: bool = False,
                starts: int = 1) -> Request:
         limit = self.request_time_limit(bool(compare), cold)
         if limit is not None and (refine or starts > 1):
             limit *= max(starts, 1) * (COLD_FACTOR if refine else 1.0)
-        request = Request(next(self._seq), self.mission, self.method, self.nodes, self.backend,
-                          dict(self.values), limit, compare, cold, refine=refine,
-                          starts=starts)
+        solve = replace(self.case(), nodes="auto" if refine else self.nodes, time_limit=limit,
+                        cold=cold, starts=starts)
+        methods = tuple(replace(solve, method=key, nodes=nodes,
+                                backend=self.backend if key == self.method else None)
+                        for key, nodes in compare)
+        request = Request(next(self._seq), self.mission, solve, methods)
         self._queue.put(request)
         self._emit("on_submit", request)
         return request
@@ -290,23 +300,21 @@ class Session:
     def _stale(self, request: Request) -> bool:
         return self._queue.stale(request)
 
-    def _start(self, request: Request, method: str, nodes: int, backend: str | None,
-               warm: Solution | None, label: str = "") -> Pending:
+    def _start(self, request: Request, solve: SolveRequest, warm: Solution | None,
+               label: str = "") -> Pending:
         def progress(iteration: int, message: str) -> None:
             if not self._stale(request):
                 self._emit("on_progress", request, iteration, label or message)
 
-        solve = Solve(request.mission, method, "auto" if request.refine else nodes, backend,
-                      request.values, warm, request.time_limit, self.id,
-                      cold=request.cold, starts=request.starts)
-        return self.runner.start(solve, request.cancel, progress)
+        return self.runner.start(request.mission, solve, warm=warm, session=self.id,
+                                 cancel=request.cancel, progress=progress)
 
     def _run(self, request: Request) -> None:
         if request.compare:
             self._run_compare(request)
             return
-        warm = None if request.cold else self.last_good
-        pending = self._start(request, request.method, request.nodes, request.backend, warm)
+        warm = None if request.solve.cold else self.last_good
+        pending = self._start(request, request.solve, warm)
         sol = self._answer(request, pending)
         if sol is None:
             return
@@ -343,10 +351,9 @@ class Session:
         """Start every method of the comparison (in parallel where the runner can), then
         collect the answers and their checks."""
         pendings = []
-        for key, nodes in request.compare:
-            backend = request.backend if key == request.method else None
-            pendings.append((key, self._start(request, key, nodes, backend, None,
-                                              label=f"comparing: {key}")))
+        for solve in request.compare:
+            pendings.append((solve.method, self._start(request, solve, None,
+                                                       label=f"comparing: {solve.method}")))
         solutions = []
         for _key, pending in pendings:
             sol = self._answer(request, pending)

@@ -232,7 +232,7 @@ class View(ViewDrawing):
             good = self.session.last_good
             if good is not None and good.mission == request.mission.key:
                 self._draw(good, dim=True)
-        self.status.show_progress(iteration, elapsed, request.time_limit, message)
+        self.status.show_progress(iteration, elapsed, request.solve.time_limit, message)
 
     def on_result(self, request: Request, solution: Solution) -> None:
         good = self.session.last_good

@@ -19,7 +19,8 @@ from pathlib import Path
 from .context import DEFAULT_TIME_LIMIT
 from .mission import Mission
 from .registry import expand_mission_paths, get_mission, list_missions, load_mission_files
-from .service import SolveService, SolveSpec
+from .request import SolveRequest
+from .service import SolveService
 from .solution import Solution
 from .sweep import mission_grid
 
@@ -261,13 +262,13 @@ def load_files(paths: Sequence[str]) -> list[str]:
     return [str(p.resolve()) for p in expand_mission_paths(list(paths))]
 
 
-def solve_isolated(spec: SolveSpec, mission_files: Sequence[str] = ()) -> Solution:
+def solve_isolated(request: SolveRequest, mission_files: Sequence[str] = ()) -> Solution:
     """Solve in a worker process of its own: Ctrl-C stops it at once (even inside a native
     solver) and the time limit is hard: the service stops a solve 1 s past it, and a check
     not back by then is given up (the process is stopped as the service closes).
     `mission_files` are loaded by the worker."""
     with SolveService(1, prebuild=False, mission_files=mission_files) as service:
-        return service.submit(spec).checked_result()
+        return service.submit(request).checked_result()
 
 
 def _cmd_solve(args: argparse.Namespace) -> int:
@@ -280,9 +281,9 @@ def _cmd_solve(args: argparse.Namespace) -> int:
     if args.multistart < 1:
         raise _BadInput(f"--multistart must be at least 1, not {args.multistart}")
     _writable(args.csv, "--csv")
-    sol = solve_isolated(SolveSpec(mission.key, args.method, args.nodes, args.backend, values,
-                                   time_limit=args.time_limit, tol=args.tol,
-                                   starts=args.multistart, cold=args.cold), args.files)
+    sol = solve_isolated(SolveRequest(mission.key, args.method, args.nodes, args.backend,
+                                      values, args.time_limit, args.tol, args.cold,
+                                      args.multistart), args.files)
     if args.json:
         print(sol.to_json())
     else:

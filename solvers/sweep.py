@@ -25,7 +25,8 @@ from typing import Any
 import numpy as np
 
 from .registry import get_mission, list_missions, load_mission_files
-from .service import SolveService, SolveSpec
+from .request import SolveRequest
+from .service import SolveService
 
 SCHEDULER_TIMEOUT = "5s"  # an unreachable scheduler is reported after this
 
@@ -143,8 +144,8 @@ def _solve_all(mission_key: str, value_sets: list[dict[str, float]], method: str
             return list(ex.map(solve_summary, [mission_key] * n, value_sets, [method] * n,
                                [nodes] * n, [list(mission_files)] * n, [time_limit] * n))
     with SolveService(workers, prebuild=False, mission_files=mission_files) as service:
-        jobs = [service.submit(SolveSpec(mission_key, method, nodes, values=dict(v),
-                                         time_limit=time_limit))
+        jobs = [service.submit(SolveRequest(mission_key, method, nodes, values=dict(v),
+                                            time_limit=time_limit))
                 for v in value_sets]
         rows = []
         for job in jobs:  # a check runs when its worker has no solve waiting, bounded by

@@ -7,8 +7,8 @@ import threading
 import time
 from collections.abc import Callable
 
+from ..request import SolveRequest
 from ..solution import Solution
-from .protocol import SolveSpec
 
 Progress = Callable[[int, str], None]
 
@@ -16,11 +16,15 @@ Progress = Callable[[int, str], None]
 class Job:
     """One solve handed to the service: wait for `result()`, then (optionally) `check()`."""
 
-    def __init__(self, job_id: int, spec: SolveSpec, session: str, progress: Progress | None,
-                 grace: float, cancel: Callable[[Job], None]) -> None:
+    def __init__(self, job_id: int, request: SolveRequest, session: str,
+                 progress: Progress | None, grace: float, cancel: Callable[[Job], None], *,
+                 warm: Solution | None = None, verify: bool = True,
+                 test_hook: str | None = None) -> None:
         """`grace`: s past the time limit before the service gives up on the worker;
-        `cancel`: the service's way to stop this job."""
-        self.id, self.spec, self._grace, self._cancel = job_id, spec, grace, cancel
+        `cancel`: the service's way to stop this job; `verify`: run the re-propagation
+        check after the answer; `test_hook`: "hang" / "crash" / "stop" (test hooks only)."""
+        self.id, self.request, self._grace, self._cancel = job_id, request, grace, cancel
+        self.warm, self.verify, self.test_hook = warm, verify, test_hook
         self.session, self.progress = session, progress
         self.solution: Solution | None = None
         self.error: str | None = None
@@ -31,7 +35,7 @@ class Job:
 
     @property
     def deadline(self) -> float | None:
-        limit = self.spec.time_limit
+        limit = self.request.time_limit
         if self.started is None or limit is None:
             return None
         return self.started + limit + self._grace
@@ -61,7 +65,7 @@ class Job:
             if self.deadline is not None and time.monotonic() > self.deadline:
                 sol.check["error"] = float("nan")
                 sol.message += (" (the re-propagation check did not finish within the time "
-                                f"limit of {self.spec.time_limit:g} s)")
+                                f"limit of {self.request.time_limit:g} s)")
                 sol.judge()
                 break
         return sol

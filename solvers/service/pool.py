@@ -3,27 +3,30 @@ hands its solves to.
 
 A solve runs in a worker process, never in the caller's: a slow, stuck or crashing solve
 cannot hold or take down anyone else. A session sticks to the worker that solved its last
-request (its built NLPs are there); when that worker is busy, an idle one takes the request
-(the warm start travels with it). A solve still running at its time limit plus `grace` is
-killed with its worker; a worker that dies is replaced; either way only that solve's caller
-hears of it, with a status that says so. Jobs wait in one queue, first come, first served.
+request (its built NLPs are there, and the warm start it made: only its id crosses the pipe);
+when that worker is busy, an idle one takes the request (the warm start travels with it). A
+solve still running at its time limit plus `grace` is killed with its worker; a worker that
+dies is replaced; either way only that solve's caller hears of it, with a status that says
+so. Jobs wait in one queue, first come, first served.
 """
 
 from __future__ import annotations
 
 import collections
-import contextlib
 import itertools
 import multiprocessing as mp
 import os
 import threading
 import time
+import weakref
 from collections.abc import Sequence
-from multiprocessing.connection import Connection
 
 from ..registry import get_mission, list_missions
+from ..request import SolveRequest
+from ..solution import Solution
 from .job import Job, Progress
-from .protocol import CheckUpdate, SolveSpec, light_warm
+from .processes import WorkerHandle, runnable, single_threaded_children
+from .protocol import CheckUpdate, light_warm
 from .worker import resident_bytes, worker_main
 
 GRACE = 1.0  # s past a solve's time limit before its worker is killed
@@ -31,37 +34,11 @@ GRACE = 1.0  # s past a solve's time limit before its worker is killed
 # for the GIL measured in a native NLP build or solve: 0.3 s). A worker that does not is
 # stopped or stuck: its job goes to another worker and it is replaced.
 ACK_TIMEOUT = 2.0
-# The workers are the parallelism: a worker's linear algebra runs on one thread, or two
-# workers' BLAS thread pools fight over the cores (measured on 2 cores: LGL warm re-solves
-# 17-23 ms on one thread, 19-100 ms on the default pool).
-SINGLE_THREAD_ENV = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
-_ENV_LOCK = threading.Lock()
 MAX_EARLY_DEATHS = 3  # workers dying before they are ready, in a row, before giving up
 RSS_BUDGET = 700 * 2**20  # bytes per worker before it empties its NLP cache or retires
 # Whether an older answer stays on screen is the caller's to say (it knows whether it has one).
 CRASHED = ("the solver process stopped unexpectedly ({why}) — try again, or another method or "
            "node count")
-
-
-class _Worker:
-    """The service's end of one worker process."""
-
-    def __init__(self, index: int, process: mp.Process, conn: Connection) -> None:
-        self.index, self.process, self.conn = index, process, conn
-        self.ready = threading.Event()
-        self.prebuilt = threading.Event()  # its start-up builds are done
-        self.job: Job | None = None  # the solve it runs
-        self.acked = False  # it acknowledged `job`
-        self.checking: dict[int, Job] = {}  # solves whose check it still owes
-        self.rss = 0
-        self.alive = True  # False once it is being killed or has died
-        self.death: str | None = None  # why the service killed it
-        self.replaced = False
-        self.send_lock = threading.Lock()
-
-    def send(self, msg: tuple) -> None:
-        with self.send_lock, contextlib.suppress(OSError, ValueError):
-            self.conn.send(msg)  # if it died, its reader thread handles that
 
 
 class SolveService:
@@ -89,8 +66,10 @@ class SolveService:
         self._lock = threading.RLock()
         self._queue: collections.deque[Job] = collections.deque()
         self._affinity: dict[str, int] = {}
+        # The answers workers keep as warm starts, while a caller still holds them.
+        self._answers: weakref.WeakValueDictionary[int, Solution] = weakref.WeakValueDictionary()
         self._closed = False
-        self._workers: list[_Worker] = [self._spawn(i) for i in range(self.n_workers)]
+        self._workers: list[WorkerHandle] = [self._spawn(i) for i in range(self.n_workers)]
         self._monitor = threading.Thread(target=self._watch, daemon=True, name="service-watch")
         self._monitor.start()
 
@@ -103,20 +82,20 @@ class SolveService:
         return list(prebuild or [])
 
     # ---- workers ----------------------------------------------------------------------------
-    def _spawn(self, index: int) -> _Worker:
+    def _spawn(self, index: int) -> WorkerHandle:
         parent, child = self._ctx.Pipe(duplex=True)
         process = self._ctx.Process(
             target=worker_main, name=f"solve-worker-{index}", daemon=True,
             args=(child, self.mission_files, self.prebuild, self.rss_budget, self.test_hooks))
-        with _single_threaded_children():
+        with single_threaded_children():
             process.start()
         child.close()
-        worker = _Worker(index, process, parent)
+        worker = WorkerHandle(index, process, parent)
         threading.Thread(target=self._read, args=(worker,), daemon=True,
                          name=f"service-read-{index}").start()
         return worker
 
-    def _read(self, w: _Worker) -> None:
+    def _read(self, w: WorkerHandle) -> None:
         """Messages of one worker, until its pipe closes (the worker died or retired)."""
         while True:
             try:
@@ -126,7 +105,7 @@ class SolveService:
             self._handle(w, msg)
         self._died(w)
 
-    def _handle(self, w: _Worker, msg: tuple) -> None:
+    def _handle(self, w: WorkerHandle, msg: tuple) -> None:
         kind = msg[0]
         if kind == "ready":
             w.ready.set()
@@ -149,7 +128,11 @@ class SolveService:
                 if kind == "error":
                     job._finish(error=msg[2])
                 else:
-                    will_check = job.spec.verify and msg[2].ok and msg[2].has_trajectory
+                    sol: Solution = msg[2]
+                    if job.session and sol.converged:  # the worker keeps it (`Worker.solve`)
+                        w.kept[job.session] = job.id
+                        self._answers[job.id] = sol
+                    will_check = job.verify and sol.ok and sol.has_trajectory
                     if will_check:
                         w.checking[job.id] = job
                     job._finish(msg[2], checked=not will_check)
@@ -168,7 +151,7 @@ class SolveService:
         elif kind == "mission-errors":
             self.mission_errors.update(msg[1])
 
-    def _died(self, w: _Worker) -> None:
+    def _died(self, w: WorkerHandle) -> None:
         """The pipe of `w` closed: replace the worker; its running solve fails, its owed
         checks are dropped."""
         with self._lock:
@@ -200,7 +183,7 @@ class SolveService:
             self._workers[w.index] = self._spawn(w.index)
             self._dispatch()
 
-    def _kill(self, w: _Worker, why: str) -> None:
+    def _kill(self, w: WorkerHandle, why: str) -> None:
         """Stop a worker now; its reader thread sees the pipe close and replaces it."""
         w.alive, w.death = False, why
         if w.process.is_alive():
@@ -227,11 +210,11 @@ class SolveService:
                     self._kill(w, "stopped at its time limit")
             for job in expired:  # outside the lock: answering may import the mission
                 self._fail(job, "time-limit",
-                           f"stopped at the time limit of {job.spec.time_limit:g} s (the solver "
+                           f"stopped at the time limit of {job.request.time_limit:g} s (the solver "
                            "did not return, so its process was stopped): raise the time "
                            "limit, or use fewer nodes or another method")
 
-    def _requeue(self, w: _Worker, why: str) -> None:
+    def _requeue(self, w: WorkerHandle, why: str) -> None:
         """`w` does not answer: its job goes back to the head of the queue, for another
         worker, and `w` is killed (and replaced)."""
         job, w.job = w.job, None
@@ -243,29 +226,31 @@ class SolveService:
 
     def _fail(self, job: Job, status: str, message: str) -> None:
         """Answer a job the worker could not answer: an empty solution with `status`."""
-        spec = job.spec
+        r = job.request
         try:
-            mission = get_mission(spec.mission)
-            vals, m, n = mission.validate(spec.values, spec.method, spec.nodes)
+            mission = get_mission(r.mission)
+            vals, m, n = mission.validate(r.values, r.method, r.nodes)
         except ValueError as exc:
             job._finish(error=str(exc))
             return
-        sol = mission.empty(vals, m, n, spec.backend or m.default_backend, status, message)
+        sol = mission.empty(vals, m, n, r.backend or m.default_backend, status, message)
         if job.started is not None:
             sol.stats["wall_s"] = time.monotonic() - job.started
         job._finish(sol)
 
     # ---- jobs -------------------------------------------------------------------------------
-    def submit(self, spec: SolveSpec, session: str = "", progress: Progress | None = None
-               ) -> Job:
-        """Queue a solve; its warm start is stripped of what the solve never reads."""
+    def submit(self, request: SolveRequest, session: str = "",
+               progress: Progress | None = None, *, warm: Solution | None = None,
+               verify: bool = True, test_hook: str | None = None) -> Job:
+        """Queue a solve, warm from `warm` (an earlier answer of this service or any
+        `Solution`); `verify`: run the re-propagation check after the answer; `test_hook`:
+        "hang" / "crash" / "stop", honoured only with `test_hooks`."""
         if self._closed:
             raise RuntimeError("the solve service is closed")
         if self._broken:
             raise RuntimeError(self._broken)
-        if spec.warm is not None:
-            spec = SolveSpec(**{**spec.__dict__, "warm": light_warm(spec.warm)})
-        job = Job(next(self._ids), spec, session, progress, self.grace, self.cancel)
+        job = Job(next(self._ids), request, session, progress, self.grace, self.cancel,
+                  warm=warm, verify=verify, test_hook=test_hook)
         with self._lock:
             self._queue.append(job)
             self._dispatch()
@@ -285,10 +270,10 @@ class SolveService:
                     if w.checking.pop(job.id, None) is not None:
                         job.checked.set()
 
-    def _idle(self) -> list[_Worker]:
+    def _idle(self) -> list[WorkerHandle]:
         """Workers ready for a solve; one found stopped (SIGSTOP) or dead is replaced."""
         for w in self._workers:
-            if w.alive and w.job is None and not _runnable(w.process.pid):
+            if w.alive and w.job is None and not runnable(w.process.pid):
                 self._kill(w, "it was stopped and did not answer")
         return [w for w in self._workers if w.alive and w.ready.is_set() and w.job is None]
 
@@ -306,7 +291,17 @@ class SolveService:
                 self._affinity[job.session] = worker.index
             worker.job, job.worker, job.started = job, worker.index, time.monotonic()
             worker.acked = False
-            worker.send(("solve", job.id, job.spec))
+            worker.send(("solve", job.id, job.request, job.session, self._warm_for(worker, job),
+                         job.verify, job.test_hook))
+
+    def _warm_for(self, w: WorkerHandle, job: Job) -> Solution | int | None:
+        """What `w` is sent as the warm start: the id of the answer it keeps for the job's
+        session when that is the one asked for (nothing crosses the pipe), else the solution
+        stripped of what the solve never reads."""
+        kept = w.kept.get(job.session)
+        if job.warm is not None and kept is not None and self._answers.get(kept) is job.warm:
+            return kept
+        return light_warm(job.warm)
 
     # ---- state ------------------------------------------------------------------------------
     def wait_ready(self, timeout: float = 60.0) -> bool:
@@ -333,9 +328,12 @@ class SolveService:
         return out
 
     def forget(self, session: str) -> None:
-        """A session closed: drop its worker affinity."""
+        """A session closed: drop its worker affinity and the warm starts kept for it."""
         with self._lock:
             self._affinity.pop(session, None)
+            for w in self._workers:
+                if w.kept.pop(session, None) is not None and w.alive:
+                    w.send(("forget", session))
 
     def reload_mission_files(self, mission_files: Sequence[str]) -> None:
         """Every worker loads the mission files again before its next solve (running solves
@@ -371,29 +369,3 @@ class SolveService:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
-
-
-def _runnable(pid: int | None) -> bool:
-    """Whether process `pid` can run: not stopped (SIGSTOP, a debugger) nor a zombie, by
-    Linux's /proc/<pid>/stat (elsewhere: assumed so; the acknowledgement deadline covers)."""
-    try:
-        with open(f"/proc/{pid}/stat", encoding="ascii") as f:
-            state = f.read().rsplit(")", 1)[1].split()[0]
-    except (OSError, IndexError, ValueError):
-        return True
-    return state not in ("T", "t", "Z", "X")
-
-
-@contextlib.contextmanager
-def _single_threaded_children():
-    """Spawn with the BLAS/OpenMP thread counts at one unless the user has set them (a
-    spawned process reads them from the environment when its numpy loads)."""
-    with _ENV_LOCK:
-        added = [v for v in SINGLE_THREAD_ENV if v not in os.environ]
-        for var in added:
-            os.environ[var] = "1"
-        try:
-            yield
-        finally:
-            for var in added:
-                os.environ.pop(var, None)

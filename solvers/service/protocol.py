@@ -2,8 +2,10 @@
 
 Messages are tuples whose first item names them (all picklable):
 
-server -> worker: ("solve", job_id, SolveSpec) · ("cancel", job_id) · ("stop",) ·
-                  ("reload", mission_files)
+server -> worker: ("solve", job_id, SolveRequest, session, warm, verify, test_hook) (warm: a
+                  Solution, the job id of one the worker kept for the session, or None) ·
+                  ("cancel", job_id) · ("stop",) · ("reload", mission_files) ·
+                  ("forget", session) (drop what is kept for it)
 worker -> server: ("ready", pid) · ("ack", job_id) (a solve received, sent at once) ·
                   ("progress", job_id, iteration, text) ·
                   ("result", job_id, Solution) · ("error", job_id, text) (bad input) ·
@@ -16,24 +18,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from ..solution import Label, Quantity, Series, Solution
-
-
-@dataclass(frozen=True)
-class SolveSpec:
-    """One solve request, by mission key (every worker has the same registry)."""
-
-    mission: str
-    method: str | None = None
-    nodes: int | str | None = None  # a count, or "auto" (refine to the accuracy targets)
-    backend: str | None = None
-    values: dict[str, float] = field(default_factory=dict)
-    warm: Solution | None = None
-    time_limit: float | None = None
-    verify: bool = True  # run the re-propagation check after sending the result
-    test_hook: str | None = None  # "hang" / "crash" / "stop": only with test hooks enabled
-    tol: float | None = None  # the headline accuracy target (see `Mission.accuracy_targets`)
-    starts: int = 1  # cold starts of a multi-start solve (`solvers.multistart`)
-    cold: bool = False  # ignore `warm`; with nodes "auto", every refinement step cold too
 
 
 @dataclass

@@ -21,12 +21,12 @@ import time
 from multiprocessing.connection import Connection
 from typing import Any
 
-from ..multistart import multistart
 from ..nlp.cache import clear_built
 from ..registry import get_mission, load_mission_files
+from ..request import SolveRequest
 from ..solution import Solution
 from ..verify import CheckInterrupted, interruptible
-from .protocol import CheckUpdate, SolveSpec
+from .protocol import CheckUpdate, light_warm
 
 PROGRESS_INTERVAL = 0.05  # s between progress messages of one solve
 
@@ -54,6 +54,9 @@ class Worker:
         self.solve_waiting = threading.Event()  # pre-empts checks and start-up builds
         self.current: tuple[int, threading.Event] | None = None
         self.dropped: set[int] = set()
+        # session -> (job id, answer): its newest converged answer, the warm start of its next
+        # solve here (the service mirrors this in `_Worker.kept` and sends just the id).
+        self.kept: dict[str, tuple[int, Solution]] = {}
         self.lock = threading.Lock()
         self.send_lock = threading.Lock()  # the reader thread sends too (acknowledgements)
 
@@ -79,7 +82,7 @@ class Worker:
                     self.dropped.add(msg[1])
                     if self.current is not None and self.current[0] == msg[1]:
                         self.current[1].set()
-            elif kind in ("stop", "reload"):
+            elif kind in ("stop", "reload", "forget"):
                 self.inbox.put(msg)
 
     # ---- the main thread -----------------------------------------------------------------
@@ -93,12 +96,15 @@ class Worker:
             if msg is not None:
                 if msg[0] == "stop":
                     return
+                if msg[0] == "forget":
+                    self.kept.pop(msg[1], None)
+                    continue
                 if msg[0] == "reload":
                     errors = load_mission_files(msg[1])
                     if errors:
                         self.send(("mission-errors", errors))
                     continue
-                self.solve(msg[1], msg[2])
+                self.solve(*msg[1:])
                 if self.inbox.empty():
                     self.solve_waiting.clear()
                 self.mind_memory()
@@ -107,7 +113,12 @@ class Worker:
             elif self.prebuild:
                 self.build_one()
 
-    def solve(self, job_id: int, spec: SolveSpec) -> None:
+    def solve(self, job_id: int, request: SolveRequest, session: str,
+              warm: Solution | int | None, verify: bool, test_hook: str | None) -> None:
+        """Solve; `warm` is a solution, or the id of the one kept for `session`."""
+        if isinstance(warm, int):
+            kept = self.kept.get(session)
+            warm = kept[1] if kept is not None and kept[0] == warm else None
         cancel = threading.Event()
         with self.lock:
             self.current = (job_id, cancel)
@@ -121,29 +132,23 @@ class Worker:
                 last[0] = now
                 self.send(("progress", job_id, iteration, text))
 
-        if spec.test_hook and self.test_hooks:
-            self.misbehave(spec.test_hook)
+        if test_hook and self.test_hooks:
+            self.misbehave(test_hook)
         try:
-            mission = get_mission(spec.mission)
-            if spec.starts > 1:
-                sol = multistart(mission, spec.values, spec.method, spec.nodes,
-                                 starts=spec.starts, tol=spec.tol, backend=spec.backend,
-                                 progress=progress, cancel=cancel, time_limit=spec.time_limit)
-            else:
-                sol = mission.solve(spec.values, spec.method, spec.nodes, tol=spec.tol,
-                                    backend=spec.backend, warm=spec.warm, cold=spec.cold,
-                                    progress=progress, cancel=cancel,
-                                    time_limit=spec.time_limit, verify=False)
+            sol = request.run(get_mission(request.mission), warm=warm, progress=progress,
+                              cancel=cancel, verify=False)
         except ValueError as exc:
             self.send(("error", job_id, str(exc)))
             return
         finally:
             with self.lock:
                 self.current = None
+        if session and sol.converged:  # before the answer goes: the service counts on it
+            self.kept[session] = (job_id, light_warm(sol))
         self.send(("result", job_id, sol))
-        if spec.verify and sol.checker is not None:
+        if verify and sol.checker is not None:
             self.checks.append((job_id, sol))
-        elif spec.verify:  # checked already (an "auto" or multi-start solve), or no check
+        elif verify:  # checked already (an "auto" or multi-start solve), or no check
             self.send(("check", job_id, CheckUpdate.of(sol)))
 
     def check_one(self) -> None:

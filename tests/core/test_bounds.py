@@ -126,9 +126,11 @@ def test_a_deferred_check_gets_what_the_solve_left_of_the_limit_and_stops_there(
 def test_a_check_not_back_by_the_hard_deadline_is_given_up():
     """The CLI's last line of defence: a check still owed at the time limit plus the grace
     (e.g. stuck in a native call of the worker) is given up and the answer says so."""
-    from solvers.service import Job, SolveSpec
+    from solvers.request import SolveRequest
+    from solvers.service import Job
 
-    job = Job(1, SolveSpec("m", time_limit=0.2), "", None, grace=0.1, cancel=lambda job: None)
+    job = Job(1, SolveRequest("m", time_limit=0.2), "", None, grace=0.1,
+              cancel=lambda job: None)
     job.started = time.monotonic()
     job._finish(Solution(mission="m", method="x", nodes=2, status="optimal",
                          message="converged", cost=Quantity(1.0, "cost", "")), checked=False)

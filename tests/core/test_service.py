@@ -16,7 +16,8 @@ import time
 import pytest
 
 import solvers
-from solvers.service import SolveService, SolveSpec
+from solvers.request import SolveRequest
+from solvers.service import SolveService
 
 
 @pytest.fixture(scope="module")
@@ -38,30 +39,63 @@ def _published_ok(sol) -> None:
 
 
 def test_a_solve_runs_in_a_worker_and_its_check_follows(service):
-    job = service.submit(SolveSpec("lunar-landing", "hermite-simpson"), session="a")
+    job = service.submit(SolveRequest("lunar-landing", "hermite-simpson"), session="a")
     sol = job.result(60.0)
     assert sol.ok and job.worker is not None
     assert service.pids()[job.worker] != os.getpid()
     assert job.check(60.0) and abs(sol.check["altitude_m"]) < 0.1  # filled in afterwards
     _published_ok(sol)
     # A warm re-solve crosses the pipe with its warm start: a few iterations only.
-    warm = service.submit(SolveSpec("lunar-landing", "hermite-simpson",
-                                    values={"thrust": 2020.0}, warm=sol), session="a")
+    warm = service.submit(SolveRequest("lunar-landing", "hermite-simpson",
+                                       values={"thrust": 2020.0}), session="a", warm=sol)
     again = warm.result(60.0)
     assert again.ok and again.stats["iterations"] < sol.stats["iterations"]
     assert warm.worker == job.worker  # the session stuck to its worker
 
 
+def test_a_sessions_warm_start_stays_in_its_worker(service, monkeypatch):
+    """Issue 18: the warm start made a round trip (worker -> server -> the same worker). Now
+    the worker keeps its session's newest converged answer and the service sends its id;
+    a warm start the worker does not hold (another session's answer, as when the room puts a
+    student's case on the projector) still crosses whole, and both are used."""
+    from solvers.service import processes
+
+    sent: list[tuple] = []
+    send = processes.WorkerHandle.send
+    monkeypatch.setattr(processes.WorkerHandle, "send",
+                        lambda w, msg: (sent.append(msg), send(w, msg)))
+    first = service.submit(SolveRequest("lunar-landing", "hermite-simpson"), session="keep")
+    sol = first.result(60.0)
+    assert sol.ok and first.check(60.0)
+    cold_iterations = sol.stats["iterations"]
+    again = service.submit(SolveRequest("lunar-landing", "hermite-simpson",
+                                        values={"thrust": 2020.0}), session="keep", warm=sol)
+    assert again.result(60.0).ok and again.worker == first.worker
+    solves = [m for m in sent if m[0] == "solve"]
+    assert solves[-1][4] == first.id  # the id only: the worker holds the solution
+    assert again.solution.stats["iterations"] < cold_iterations  # and it was used
+    other = service.submit(SolveRequest("lunar-landing", "hermite-simpson",
+                                        values={"thrust": 2030.0}), session="projector",
+                           warm=sol)
+    assert other.result(60.0).ok
+    crossed = [m for m in sent if m[0] == "solve"][-1][4]
+    assert crossed is not None and not isinstance(crossed, int) and crossed.history == []
+    assert other.solution.stats["iterations"] < cold_iterations
+    service.forget("keep")
+    assert any(m == ("forget", "keep") for m in sent)
+
+
 def test_bad_input_is_a_value_error_not_a_crash(service):
-    job = service.submit(SolveSpec("lunar-landing", values={"thrust": -5.0}))
+    job = service.submit(SolveRequest("lunar-landing", values={"thrust": -5.0}))
     with pytest.raises(ValueError, match="thrust"):
         job.result(60.0)
 
 
 def test_three_sessions_on_different_missions_at_once_get_published_optima(service):
-    specs = [SolveSpec("lunar-landing", "hermite-simpson"), SolveSpec("cw-rendezvous", "paper"),
-             SolveSpec("elliptic-transfer", "seq-law")]
-    jobs = [service.submit(spec, session=f"s{i}") for i, spec in enumerate(specs)]
+    requests = [SolveRequest("lunar-landing", "hermite-simpson"),
+                SolveRequest("cw-rendezvous", "paper"),
+                SolveRequest("elliptic-transfer", "seq-law")]
+    jobs = [service.submit(r, session=f"s{i}") for i, r in enumerate(requests)]
     for job in jobs:
         sol = job.result(120.0)
         assert sol.ok, sol.message
@@ -69,13 +103,13 @@ def test_three_sessions_on_different_missions_at_once_get_published_optima(servi
         _published_ok(sol)
 
 
-def _both_workers_solved(service, spec, sessions=("warm-1", "warm-2")):
+def _both_workers_solved(service, request, sessions=("warm-1", "warm-2")):
     """One solve on each worker at once (a replacement worker imports the missions and
     builds the NLP first: seconds on a loaded machine), with its check; the two jobs. The
     mission is loaded here too: the service answers a killed solve from its records."""
-    solvers.get_mission(spec.mission)
+    solvers.get_mission(request.mission)
     assert service.wait_ready(60.0)
-    jobs = [service.submit(spec, session=s) for s in sessions]
+    jobs = [service.submit(request, session=s) for s in sessions]
     for job in jobs:
         assert job.result(120.0).ok and job.check(120.0)
     assert jobs[0].worker != jobs[1].worker
@@ -86,13 +120,13 @@ def _both_workers_solved(service, spec, sessions=("warm-1", "warm-2")):
 def test_a_solve_stuck_in_native_code_is_stopped_and_others_go_on(service, hook):
     """`hang` sleeps in C inside the worker; `stop` freezes the whole worker (SIGSTOP): the
     service kills it at the time limit plus the grace and starts a new one."""
-    _both_workers_solved(service, SolveSpec("lunar-landing", "hermite-simpson"))
+    _both_workers_solved(service, SolveRequest("lunar-landing", "hermite-simpson"))
     restarts = service.restarts
     started = time.monotonic()
-    stuck = service.submit(SolveSpec("lunar-landing", "hermite-simpson", time_limit=1.0,
-                                     test_hook=hook), session="stuck")
+    stuck = service.submit(SolveRequest("lunar-landing", "hermite-simpson", time_limit=1.0),
+                           session="stuck", test_hook=hook)
     time.sleep(0.2)
-    other = service.submit(SolveSpec("lunar-landing", "hermite-simpson",
+    other = service.submit(SolveRequest("lunar-landing", "hermite-simpson",
                                      values={"thrust": 2100.0}), session="other")
     sol = other.result(30.0)
     assert sol.ok and time.monotonic() - started < 5.0  # the other session did not wait
@@ -104,12 +138,12 @@ def test_a_solve_stuck_in_native_code_is_stopped_and_others_go_on(service, hook)
     while service.restarts == restarts:
         assert time.monotonic() < deadline, "no replacement worker"
         time.sleep(0.05)
-    assert service.submit(SolveSpec("hovercraft")).result(60.0).ok  # the next one solves
+    assert service.submit(SolveRequest("hovercraft")).result(60.0).ok  # the next one solves
 
 
 def test_a_worker_killed_mid_solve_is_reported_and_replaced(service):
-    job = service.submit(SolveSpec("lunar-landing", "hermite-simpson", test_hook="hang",
-                                   time_limit=60.0), session="victim")
+    job = service.submit(SolveRequest("lunar-landing", "hermite-simpson", time_limit=60.0),
+                         session="victim", test_hook="hang")
     deadline = time.monotonic() + 10.0
     while job.worker is None:
         assert time.monotonic() < deadline
@@ -119,12 +153,12 @@ def test_a_worker_killed_mid_solve_is_reported_and_replaced(service):
     sol = job.result(30.0)
     assert sol.status == "failed"
     assert "the solver process stopped unexpectedly" in sol.message
-    assert service.submit(SolveSpec("lunar-landing", "hermite-simpson"),
+    assert service.submit(SolveRequest("lunar-landing", "hermite-simpson"),
                           session="victim").result(60.0).ok
 
 
 def test_a_newer_request_cancels_the_running_one(service):
-    slow = service.submit(SolveSpec("cw-rendezvous", "multiple-shooting", nodes=300),
+    slow = service.submit(SolveRequest("cw-rendezvous", "multiple-shooting", nodes=300),
                           session="c")
     time.sleep(0.5)
     slow.cancel()
@@ -155,7 +189,7 @@ def test_progress_crosses_the_process_boundary(service):
         with lock:
             seen.append(iteration)
 
-    job = service.submit(SolveSpec("apollo-reentry", "hermite-simpson", nodes=80),
+    job = service.submit(SolveRequest("apollo-reentry", "hermite-simpson", nodes=80),
                          progress=progress)
     assert job.result(120.0).ok
     assert seen and max(seen) > 0
@@ -169,11 +203,11 @@ def test_a_worker_stopped_while_idle_gets_no_job_and_is_replaced(service, monkey
     /proc) or, failing that, when the job is not acknowledged, and moves the job."""
     from solvers.service import pool
 
-    runnable = pool._runnable
+    runnable = pool.runnable
     if found_by == "the acknowledgement deadline":
-        monkeypatch.setattr(pool, "_runnable", lambda pid: True)
+        monkeypatch.setattr(pool, "runnable", lambda pid: True)
     # Both workers solve once (imports, built NLP), so the move costs a warm solve only.
-    first, second = _both_workers_solved(service, SolveSpec("hovercraft"), ("idle", "2"))
+    first, second = _both_workers_solved(service, SolveRequest("hovercraft"), ("idle", "2"))
     restarts = service.restarts
     victim = service.pids()[first.worker]
     os.kill(victim, signal.SIGSTOP)
@@ -182,7 +216,7 @@ def test_a_worker_stopped_while_idle_gets_no_job_and_is_replaced(service, monkey
         while runnable(victim):  # the signal is delivered when the kernel next runs it
             assert time.monotonic() < deadline, "SIGSTOP did not stop the worker"
             time.sleep(0.01)
-        job = service.submit(SolveSpec("hovercraft", values={"accel": 3.5}, time_limit=60.0),
+        job = service.submit(SolveRequest("hovercraft", values={"accel": 3.5}, time_limit=60.0),
                              session="idle")
         sol = job.result(60.0)  # on the stopped worker: "time-limit" after 61 s
         assert sol.ok, sol.message

@@ -188,7 +188,7 @@ def test_session_passes_its_time_limit_and_runs_comparisons():
     rec.on_submit = lambda request: None
     session.listeners.append(rec)
     request = session.submit()
-    assert request.time_limit == pytest.approx(COLD_FACTOR * 0.1)  # no warm start yet
+    assert request.solve.time_limit == pytest.approx(COLD_FACTOR * 0.1)  # no warm start yet
     assert session.wait_idle(5.0)
     assert rec.results[-1].status == "time-limit" and session.last_good is None
     session.set_time_limit(None)
@@ -196,7 +196,7 @@ def test_session_passes_its_time_limit_and_runs_comparisons():
     session.submit()
     assert session.wait_idle(5.0) and session.last_good is not None
     session.set_time_limit(0.5)
-    assert session.submit().time_limit == 0.5  # warm now: the plain limit
+    assert session.submit().solve.time_limit == 0.5  # warm now: the plain limit
     assert session.wait_idle(5.0)
     session.compare(["only"])
     assert session.wait_idle(5.0)

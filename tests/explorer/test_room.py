@@ -58,9 +58,9 @@ class Counting(LocalRunner):
     def __init__(self) -> None:
         self.started = 0
 
-    def start(self, solve, cancel, progress):
+    def start(self, mission, request, **how):
         self.started += 1
-        return super().start(solve, cancel, progress)
+        return super().start(mission, request, **how)
 
 
 class Heard:
@@ -156,7 +156,7 @@ def test_the_teacher_leaves_and_comes_back(room):
     t.wait_idle(10)
     until(lambda: heard_a.results[-1].values["x"] == 5.0, "the teacher's case on the student")
     room.leave(2)
-    assert room.lead is None and room.case.values["x"] == 5.0
+    assert room.lead is None and room.case.solve.values["x"] == 5.0
     (c, heard_c) = student(3)  # joins while no teacher: the last case
     until(lambda: heard_c.results and heard_c.results[-1].values["x"] == 5.0,
           "the last case on a late student")
