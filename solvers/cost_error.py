@@ -3,7 +3,7 @@
 The method's own error control: the same request is solved again on a finer mesh (1.5
 times the nodes, or fewer at the node cap: `reference_nodes`), warm-started from the
 answer, and the two costs are Richardson-extrapolated with the method's order of
-convergence (`NOMINAL_ORDER`): with J_N - J* ~ C N^-q, the error of J_N is
+convergence (`transcription.convergence_order`): with J_N - J* ~ C N^-q, the error of J_N is
 |J_N - J_M| / |1 - (N/M)^q| (`richardson`). It runs in the deferred check, after the
 re-propagation, within what is left of the check's time budget. An answer is "optimal" only
 when the estimate is within the cost target (`COST_RTOL` of |J|, or the mission's tighter
@@ -19,9 +19,9 @@ import time
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from .refine import NOMINAL_ORDER
 from .solution import Label, Solution
 from .solvable import SolvableMission
+from .transcription import convergence_order
 from .verify import checkpoint, remaining_budget, stop_requested
 
 if TYPE_CHECKING:
@@ -66,7 +66,7 @@ def reference_nodes(method: Method, nodes: int) -> int | None:
 
 def order(method: Method) -> float:
     """The method's order of convergence of the cost in its node count."""
-    return NOMINAL_ORDER.get(method.transcription, NOMINAL_ORDER[None])
+    return convergence_order(method.transcription)
 
 
 def estimate(mission: SolvableMission, sol: Solution, method: Method) -> tuple[float, str]:

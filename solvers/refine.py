@@ -14,9 +14,10 @@ transformation segments, burn sub-intervals, LGL degree), the NLPs are built and
 node count, and a warm start re-interpolates across counts. The next count comes from the
 observed convergence of the miss: with miss ~ N^-q, N_next = N (SAFETY r)^(1/q) where r is the
 worst miss over its target and q is measured from the last two steps (the method's nominal
-order before that; `NOMINAL_ORDER`), kept within [GROWTH_MIN N, GROWTH_MAX N]. The interval
-errors (`Solution.interval_error`) show where a finer mesh would be needed; an h-refinement
-that places nodes there would need every transcription to accept a mesh instead of a count.
+order before that: `transcription.convergence_order`), kept within [GROWTH_MIN N,
+GROWTH_MAX N]. The interval errors (`Solution.interval_error`) show where a finer mesh would
+be needed; an h-refinement that places nodes there would need every transcription to accept
+a mesh instead of a count.
 """
 
 from __future__ import annotations
@@ -29,13 +30,11 @@ from typing import TYPE_CHECKING
 
 from .solution import Solution
 from .solvable import SolvableMission
+from .transcription import convergence_order
 
 if TYPE_CHECKING:
     from .context import ProgressCallback
 
-# Convergence order of the terminal miss in the node count, per transcription (the paper's
-# own methods: None). LGL converges spectrally; 4 is a cautious stand-in.
-NOMINAL_ORDER = {"hermite-simpson": 4.0, "multiple-shooting": 4.0, "lgl": 4.0, None: 2.0}
 SAFETY = 2.0  # aim below the target by this factor
 GROWTH_MIN, GROWTH_MAX = 1.25, 3.0
 ORDER_MIN, ORDER_MAX = 1.0, 8.0
@@ -101,7 +100,7 @@ def solve_auto(
     started = time.perf_counter()
     steps: list[dict[str, float]] = []
     best: Solution | None = None
-    order = NOMINAL_ORDER.get(m.transcription, NOMINAL_ORDER[None])
+    order = convergence_order(m.transcription)
     while True:
         remaining = None if time_limit is None else time_limit - (time.perf_counter() - started)
         if remaining is not None and remaining <= 0:

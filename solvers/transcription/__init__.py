@@ -23,6 +23,17 @@ TRANSCRIPTIONS: dict[str, type[DirectTranscription]] = {
 }
 
 
+# The order assumed for a mission's own method (a paper's scheme with no transcription):
+# the cautious one, second order.
+OWN_METHOD_ORDER = 2.0
+
+
+def convergence_order(kind: str | None) -> float:
+    """The convergence order in the node count of method `kind` (a transcription key, or
+    None for a mission's own method)."""
+    return TRANSCRIPTIONS[kind].order if kind in TRANSCRIPTIONS else OWN_METHOD_ORDER
+
+
 @built_once
 def direct_transcription(
     kind: str, ocp: OCP, n_intervals: int, backend: str = "ipopt", **options: int

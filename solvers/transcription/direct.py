@@ -25,6 +25,9 @@ class DirectTranscription(ABC):
     """Nodes at tau_k in [0, 1] on t = t0 + T tau; states and controls at every node."""
 
     kind: str = "direct"
+    # Convergence order of the terminal miss and of the cost in the node count: where the
+    # refinement aims its next count and how the cost error is extrapolated.
+    order: float  # every method states its own
     # Symbols of the NLP: SX (fast evaluation, expression graphs expanded) or MX (function
     # calls kept: far less memory for methods with long inner integrations).
     symbolic: type = ca.SX

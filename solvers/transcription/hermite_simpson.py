@@ -64,6 +64,7 @@ def linear_dense(t_nodes: np.ndarray, U: np.ndarray, per_interval: int) -> np.nd
 
 class HermiteSimpson(DirectTranscription):
     kind = "hermite-simpson"
+    order = 4.0  # Hermite cubic states, Simpson quadrature
 
     def __init__(self, ocp: OCP, n_intervals: int, backend: str = "ipopt",
                  variable_mesh: int = 0, midpoint_path: int = 0) -> None:

@@ -20,6 +20,7 @@ DEFAULT_SUBSTEPS = 8
 
 class MultipleShooting(DirectTranscription):
     kind = "multiple-shooting"
+    order = 4.0  # the RK4 steps inside each shooting interval
     symbolic = ca.MX
 
     def __init__(

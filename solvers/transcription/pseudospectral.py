@@ -23,6 +23,7 @@ class LGLPseudospectral(DirectTranscription):
     """Nodes at the LGL points on [0, 1] instead of equal spacing; same variable layout."""
 
     kind = "lgl"
+    order = 4.0  # spectral for smooth problems; 4 is a cautious stand-in
     control_interpolation = "polynomial"
 
     @staticmethod
