@@ -10,7 +10,6 @@ from collections.abc import Callable
 from contextlib import AbstractContextManager
 
 import numpy as np
-import viser
 
 from solvers.mission import Mission
 from solvers.presentation import Presentation
@@ -37,10 +36,11 @@ class ComparisonOverlay:
     tab."""
 
     def __init__(self, scene: SceneView, lock: AbstractContextManager, side: SidePanel,
-                 table: viser.GuiHtmlHandle, present: Callable[[Solution], Presentation]
-                 ) -> None:
+                 show_table: Callable[[str], None],
+                 present: Callable[[Solution], Presentation]) -> None:
         self.solutions: list[Solution] = []
-        self._scene, self._lock, self._side, self._table = scene, lock, side, table
+        self._scene, self._lock, self._side = scene, lock, side
+        self._show_table = show_table
         self._present = present
 
     def show(self, mission: Mission, solutions: list[Solution], labels: list[str],
@@ -52,13 +52,13 @@ class ComparisonOverlay:
         with self._lock:
             self._side.show_figure(PageFigure(comparison_figure(
                 labels, colors, presentations, dark), 0))
-        self._table.content = comparison_html(mission, solutions, colors, labels)
+        self._show_table(comparison_html(mission, solutions, colors, labels))
         return list(zip(labels, colors, strict=True))
 
     def clear(self) -> None:
         """Back to the solution alone."""
         self.solutions = []
-        self._table.content = ""
+        self._show_table("")
         with self._lock:
             self._scene.clear_layers("compare")
             self._scene.show_solution(True)

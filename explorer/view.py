@@ -107,7 +107,7 @@ class View(ViewDrawing):
         self.handles = Handles(scene, self.session, self.controls, self.refuse, scene_root,
                                released=self.camera.frame_if_needed)
         self.overlay = ComparisonOverlay(self.scene, self._lock, self.side,
-                                         self.compare.table, self.present)
+                                         self.compare.show_table, self.present)
         self.replay = IterationReplay(self.scene, self._lock, lambda: self.presentation,
                                       self._say_replay, self._replay_done)
         self.session.listeners.append(self)
@@ -143,7 +143,7 @@ class View(ViewDrawing):
                                     "this link's case cannot be restored", str(exc))
 
     def _say_replay(self, text: str) -> None:
-        self.play.replay_text.content = text
+        self.play.show_replay(text)
 
     def refuse(self, title: str, message: str) -> None:
         """A typed value was refused: say why in every watching browser."""
@@ -191,11 +191,11 @@ class View(ViewDrawing):
         self.link.show(case_query(session))
         self.controls.rebuild()
         self.compare.rebuild(session.mission)
-        self.side.about.content = about_html(session.mission, session.method)
+        self.side.show_about(about_html(session.mission, session.method))
         self.clear_comparison(redraw=False)
-        self.compare.table.content = ""  # also "solving…" or "tick at least two methods"
+        self.compare.show_table("")  # also "solving…" or "tick at least two methods"
         self.trust.clear()  # a verdict belongs to the case it checked
-        self.play.replay_text.content = ""
+        self.play.show_replay("")
         shown = self._shown[0].mission if self._shown is not None else None
         if shown is not None and shown != session.mission.key:
             with self._lock:  # another mission: its first solve may fail, show nothing old
@@ -205,7 +205,7 @@ class View(ViewDrawing):
                 self.play.set_track(None)
                 self.side.show_figure(PageFigure(figure_tree([], dark=self.dark), 0))
             self.status.clear()
-            self.play.readout.content = ""
+            self.play.show_readout("")
             self.play.t = 0.0
 
     def on_view(self, session: Session) -> None:
@@ -268,8 +268,8 @@ class View(ViewDrawing):
         # Draw again only if the check changed what is on screen (a reference curve, the
         # error colours, the optimality plots): every redraw costs the page a 3D frame.
         changed = self._drawn != drawn_signature(self.present(solution), solution)
-        if changed or self.trust.error_colors.value \
-                or self.side.page.value.startswith(("costate", "Hamiltonian")):
+        if changed or self.trust.error_colors_on \
+                or self.side.page_name.startswith(("costate", "Hamiltonian")):
             self._draw(solution, dim=False)
 
     def on_error(self, request: Request, message: str) -> None:
@@ -295,7 +295,7 @@ class View(ViewDrawing):
         entries = self.overlay.show(self.session.mission, solutions,
                                     names or [s.method for s in solutions], self.dark)
         if self._geometry is not None:
-            self.status.legend.content = legend_html(self._geometry, comparison=entries)
+            self.status.show_legend(legend_html(self._geometry, comparison=entries))
 
     def clear_comparison(self, redraw: bool) -> None:
         if not self.overlay.solutions and not redraw:

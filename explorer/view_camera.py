@@ -61,14 +61,14 @@ class ViewCamera:
     def follow(self, position: np.ndarray) -> None:
         """The vehicle moved to `position`: a chasing camera goes with it."""
         drawn = self._drawn()
-        if self._play.camera_mode.value == FOLLOW and drawn is not None:
+        if self._play.camera == FOLLOW and drawn is not None:
             self.cameras.chase(drawn[1], position, self._vehicle_size())
 
     def reset(self) -> None:
         """Back to the overview, forgetting the directions people orbited to."""
         self.cameras.forget_user_views()
-        if self._play.camera_mode.value != OVERVIEW:
-            self._play.camera_mode.value = OVERVIEW  # runs `apply` through its callback
+        if self._play.camera != OVERVIEW:
+            self._play.camera = OVERVIEW  # runs `apply` through its callback
         else:
             self.apply()
 
@@ -83,7 +83,7 @@ class ViewCamera:
         if drawn is None:
             return
         g = drawn[1]
-        mode, track = self._play.camera_mode.value, self._play.track
+        mode, track = self._play.camera, self._play.track
         follow = track.pose(self._play.t).position if mode == FOLLOW and track else None
         self.cameras.frame(g, top_view(g) if mode == TOP else None, clients, follow,
                            self._vehicle_size())

@@ -74,7 +74,7 @@ class ViewDrawing:
     def present(self, sol: Solution) -> Presentation:
         """The mission's presentation of `sol`, coloured by the local error if asked."""
         pres = self.session.mission.present(sol, self.session.view)
-        if self.trust.error_colors.value:
+        if self.trust.error_colors_on:
             color_by_error(sol, pres)
         return pres
 
@@ -98,8 +98,8 @@ class ViewDrawing:
                                   if self.play.track else None, self.dark)
             self.side.show_map(pres.maps[0] if pres.maps else None, self.dark)
             self._draw_ghosts()
-        self.status.legend.content = legend_html(geometry, dim=dim, failed=self._failed,
-                                                 dark=self.dark)
+        self.status.show_legend(legend_html(geometry, dim=dim, failed=self._failed,
+                                            dark=self.dark))
         if not self.handles.in_hand:  # never under a hand: the point held would slip
             self.camera.frame_if_needed()
         self.drawn += 1
@@ -108,7 +108,7 @@ class ViewDrawing:
                 dim: bool) -> PageFigure:
         """The plots' page figure, shared with every view drawing this answer alike (a
         classroom's followers: one figure per teacher answer, not one per tab)."""
-        look = (tuple(sorted(self.session.view.items())), self.trust.error_colors.value,
+        look = (tuple(sorted(self.session.view.items())), self.trust.error_colors_on,
                 tuple((p.title, p.group) for p in plots), dim, self.dark)
         subplots = sum(p.group != "reference" for p in plots)
         return SHARED.get(sol, look, lambda: PageFigure(figure_tree(
@@ -129,13 +129,13 @@ class ViewDrawing:
         with self._lock:
             self.scene.set_layer("failed", segments, colors, thickness=3.0)
         if self._geometry is not None:
-            self.status.legend.content = legend_html(self._geometry, dim=self._failed,
-                                                     failed=self._failed, dark=self.dark)
+            self.status.show_legend(legend_html(self._geometry, dim=self._failed,
+                                                failed=self._failed, dark=self.dark))
 
     def _draw_ghosts(self) -> None:
         pres = self.presentation
         with self._lock:
-            if self.play.ghosts.value and pres is not None and pres.iterates:
+            if self.play.ghosts_on and pres is not None and pres.iterates:
                 segs, cols = ghost_geometry(pres, dark=self.dark)
                 self.scene.set_layer("ghosts", segs, cols, thickness=1.5)
             else:
@@ -172,7 +172,7 @@ class ViewDrawing:
         self.camera.follow(pose.position)
         if not slow:
             return
-        self.play.readout.content = readout_markdown(readouts(sol, pres, track, t), pres.frame)
+        self.play.show_readout(readout_markdown(readouts(sol, pres, track, t), pres.frame))
         now = time.monotonic()
         if not marker or (self.play.playing and now - self._marker_at < MARKER_S):
             return

@@ -102,6 +102,10 @@ class ComparePanel:
         clear.on_click(lambda _: on_clear())
         self.table = gui.add_html("", order=102)
 
+    def show_table(self, html: str) -> None:
+        """The comparison's table ("" for none)."""
+        self.table.content = html
+
     def rebuild(self, mission: Mission) -> None:
         """One check box per method of the mission."""
         if self._folder is not None:
@@ -116,7 +120,7 @@ class ComparePanel:
     def _compare(self) -> None:
         methods = [k for k, box in self.boxes.items() if box.value]
         if len(methods) < 2:
-            self.table.content = "<p><b>Tick at least two methods.</b></p>"
+            self.show_table("<p><b>Tick at least two methods.</b></p>")
             return
-        self.table.content = "<p><em>solving…</em></p>"
+        self.show_table("<p><em>solving…</em></p>")
         self.on_compare(methods)

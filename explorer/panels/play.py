@@ -63,6 +63,28 @@ class PlayPanel:
             self.replay_button.on_click(lambda _: on_replay())
             self.replay_text = gui.add_markdown("")
 
+    @property
+    def camera(self) -> str:
+        """The camera mode: overview, follow or top."""
+        return str(self.camera_mode.value)
+
+    @camera.setter
+    def camera(self, mode: str) -> None:
+        self.camera_mode.value = mode  # its callback applies it
+
+    @property
+    def ghosts_on(self) -> bool:
+        """The solver's iterates are to be drawn."""
+        return bool(self.ghosts.value)
+
+    def show_replay(self, text: str) -> None:
+        """The iteration replay's line ("" when none runs)."""
+        self.replay_text.content = text
+
+    def show_readout(self, markdown: str) -> None:
+        """The vehicle's state at the animation time ("" with no trajectory)."""
+        self.readout.content = markdown
+
     def set_track(self, track: Track | None, time_unit: str = "s",
                   time_scale: float = 1.0) -> None:
         """A new trajectory to animate: the slider spans its times (in the display unit)."""

@@ -45,6 +45,14 @@ class SidePanel:
         self.show_figure(self.figure)
         self._map_key: tuple | None = None
 
+    def show_about(self, html: str) -> None:
+        self.about.content = html
+
+    @property
+    def page_name(self) -> str:
+        """The plot page chosen (its series' names)."""
+        return str(self.page.value)
+
     def page_of(self, series: Sequence[PlotSeries], extra: Sequence[PlotSeries] = ()
                 ) -> list[PlotSeries]:
         """The series of the chosen page: the mission's plots a page at a time, then the

@@ -204,6 +204,9 @@ class StatusPanel:
         self.result_md = ""
         self._notices: list[viser.NotificationHandle] = []
 
+    def show_legend(self, html: str) -> None:
+        self.legend.content = html
+
     def show_progress(self, iteration: int, elapsed: float, limit: float | None,
                       message: str) -> None:
         self.progress.visible = True
