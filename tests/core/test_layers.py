@@ -1,6 +1,7 @@
 """The house rules of DESIGN.md's layer picture, read from the source: no import cycle among
 the project's modules (counting imports inside functions and under TYPE_CHECKING), and no
-module of `solvers/` or `explorer/` over 400 lines."""
+module of `solvers/` or `explorer/` over 400 lines, and no module outside `explorer/panels/`
+reaching into a panel's widgets."""
 
 from __future__ import annotations
 
@@ -88,3 +89,27 @@ def test_no_module_is_over_400_lines() -> None:
     long = {name: n for name, path in _modules().items()
             if (n := len(path.read_text().splitlines())) > MAX_LINES}
     assert not long, long
+
+
+PANELS = ("play", "trust", "compare", "status", "side", "controls", "export", "room")
+
+
+def _widget_reaches(path: Path) -> list[str]:
+    """`<...>.<panel>.<widget>.value` or `.content` in `path`: a module reaching through a
+    panel into one of its widgets."""
+    hits = []
+    for node in ast.walk(ast.parse(path.read_text())):
+        if (isinstance(node, ast.Attribute) and node.attr in ("value", "content")
+                and isinstance(node.value, ast.Attribute)
+                and isinstance(node.value.value, ast.Attribute)
+                and node.value.value.attr.lstrip("_") in PANELS):
+            hits.append(f"{path.name}:{node.lineno} {ast.unparse(node)}")
+    return hits
+
+
+def test_only_a_panel_touches_its_widgets() -> None:
+    """Issue 18: the view wrote `play.replay_text.content`, read `trust.error_colors.value`
+    and four more; a panel's widgets are its own, the rest calls its methods."""
+    outside = [p for p in (ROOT / "explorer").rglob("*.py") if "panels" not in p.parts]
+    assert [hit for p in outside for hit in _widget_reaches(p)] == []
+    assert _widget_reaches(ROOT / "tests" / "explorer" / "test_browser_polish.py")  # it sees
