@@ -36,7 +36,7 @@ from .presentation import Presentation
 from .problem import Consistency, Method, Param, Preset, Published, validate_values
 from .refine import solve_auto
 from .solution import Label, Quantity, Solution, WarmStart
-from .transcription import DirectTranscription, direct_transcription
+from .transcription import Transcription, direct_transcription
 from .verify import repropagate
 
 if TYPE_CHECKING:
@@ -338,7 +338,7 @@ class Mission:
             interval_error.record_defects(self, sol, *res.defects)
         return sol
 
-    def solve_transcription(self, transcription: DirectTranscription, p: np.ndarray,
+    def solve_transcription(self, transcription: Transcription, p: np.ndarray,
                             warm: WarmStart | None, ctx: SolveContext) -> OCPResult:
         """One solve of the built transcription; a mission overrides it to choose the mesh
         (e.g. nodes at the thrust switches of a bang–bang answer)."""

@@ -48,14 +48,14 @@ class TrustPanel:
             self.error_colors.on_update(lambda _: redraw())
             self.report = gui.add_markdown("")
 
+    def clear(self) -> None:
+        """No verdict: the case on screen is not the one that was checked."""
+        self.report.content = ""
+
     @property
     def error_colors_on(self) -> bool:
         """The path is to be coloured by each interval's local error."""
         return bool(self.error_colors.value)
-
-    def clear(self) -> None:
-        """No verdict: the case on screen is not the one that was checked."""
-        self.report.content = ""
 
     def report_cold(self, warm: Solution, cold: Solution) -> None:
         """Say whether the cold answer is the same optimum as the one on screen."""

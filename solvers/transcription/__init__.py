@@ -7,19 +7,44 @@ slider move re-solves the built NLP warm.
 
 from __future__ import annotations
 
+from typing import Protocol
+
+import numpy as np
+
+from ..context import SolveContext
 from ..nlp.cache import built_once
-from ..ocp import OCP
+from ..ocp import OCP, OCPResult
+from ..solution import WarmStart
 from .direct import DirectTranscription
 from .hermite_simpson import HermiteSimpson
 from .multiple_shooting import MultipleShooting
 from .pseudospectral import LGLPseudospectral
 from .scvx import SCvxHermiteSimpson
 
+
+class Transcription(Protocol):
+    """What the solve pipeline asks of a method that turns an `OCP` into an answer: its
+    facts (kind, convergence order, how its control reads between nodes, whether one build
+    takes any mesh) and a solve of the built problem for the mission's parameters `p`, warm
+    or cold. A direct transcription builds one NLP and re-solves it; an iterative method
+    (successive convexification, `scvx`) solves a sequence of convex problems."""
+
+    kind: str
+    order: float
+    control_interpolation: str
+    variable_mesh: bool
+    N: int
+
+    def solve(self, p: np.ndarray, warm: WarmStart | None = None,
+              ctx: SolveContext | None = None, dense_per_interval: int = 10,
+              tau: np.ndarray | None = None) -> OCPResult:
+        """Solve for parameters `p` (see `DirectTranscription.solve`)."""
+
+
+# The registry, built from the classes: a method's key is its class's `kind`.
 TRANSCRIPTIONS: dict[str, type[DirectTranscription]] = {
-    "hermite-simpson": HermiteSimpson,
-    "multiple-shooting": MultipleShooting,
-    "lgl": LGLPseudospectral,
-    "scvx": SCvxHermiteSimpson,
+    cls.kind: cls
+    for cls in (HermiteSimpson, MultipleShooting, LGLPseudospectral, SCvxHermiteSimpson)
 }
 
 
@@ -37,6 +62,6 @@ def convergence_order(kind: str | None) -> float:
 @built_once
 def direct_transcription(
     kind: str, ocp: OCP, n_intervals: int, backend: str = "ipopt", **options: int
-) -> DirectTranscription:
+) -> Transcription:
     """The cached transcription of `ocp` by method `kind` (a key of TRANSCRIPTIONS)."""
     return TRANSCRIPTIONS[kind](ocp, n_intervals, backend, **options)

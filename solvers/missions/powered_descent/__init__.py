@@ -17,7 +17,7 @@ from ...mission import Mission
 from ...ocp import OCP, OCPResult
 from ...problem import Method
 from ...solution import Solution, WarmStart
-from ...transcription.direct import DirectTranscription
+from ...transcription import Transcription
 from . import problem, view
 from .methods import LOSSLESS, certify_infeasible, record_direct, solve_method
 from .model import P_RHO1, P_RHO2, parameter_vector
@@ -74,7 +74,7 @@ class PoweredDescent(Mission, records=problem):
                 return self.empty(values, method, nodes, backend, "infeasible", reason)
         return sol
 
-    def solve_transcription(self, transcription: DirectTranscription, p: np.ndarray,
+    def solve_transcription(self, transcription: Transcription, p: np.ndarray,
                             warm: WarmStart | None, ctx: SolveContext) -> OCPResult:
         """Nodes where the thrust switches, as the lossless method places them
         (`switch_mesh`): on equal steps a switch between ρ1 and ρ2 is a ramp over its
