@@ -57,7 +57,7 @@ class Bounds:
 @dataclass(frozen=True)
 class Guess:
     """A cold-start guess: states linear from x(0) to `x_final` (from `x_initial` when the
-    initial state is free), constant control."""
+    initial state is free), controls linear from `u` to `u_final` (None: constant `u`)."""
 
     x_final: np.ndarray
     u: np.ndarray
@@ -65,6 +65,7 @@ class Guess:
     x_initial: np.ndarray | None = None
     t0: float = 0.0
     statics: np.ndarray = field(default_factory=_none)
+    u_final: np.ndarray | None = None
 
 
 @dataclass(frozen=True)

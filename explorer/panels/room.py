@@ -239,7 +239,7 @@ class RoomPanel:
         case = self.room.case
         if case is None:
             return
-        params = tuple(p.key for p in case.mission.all_params(case.method))
+        params = tuple(p.key for p in case.mission.all_params(case.solve.method))
         key = (case.mission.key, params)
         if key == self._frozen_for:
             return
@@ -248,7 +248,7 @@ class RoomPanel:
             box.remove()
         self.freeze.clear()
         with self.freeze_box:
-            for p in case.mission.all_params(case.method):
+            for p in case.mission.all_params(case.solve.method):
                 self.freeze[p.key] = self.gui.add_checkbox(p.label, False)
 
     def refresh(self) -> None:

@@ -201,7 +201,9 @@ class DirectTranscription(ABC):
                            float)
         x0 = self.initial_state(p, start)
         X = x0 + np.outer(tau, np.asarray(guess.x_final) - x0)
-        U = np.tile(np.asarray(guess.u, float), (self.N + 1, 1))
+        u0 = np.asarray(guess.u, float)
+        u1 = u0 if guess.u_final is None else np.asarray(guess.u_final, float)
+        U = u0 + np.outer(tau, u1 - u0)
         T = guess.T if self.free_T else float(self.fn.fixed_T(p))
         return self._pack(X, U, T, guess.t0, guess.statics)
 

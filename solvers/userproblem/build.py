@@ -73,10 +73,21 @@ def guess_states(decl: Declaration, values: dict[str, float]) -> tuple[np.ndarra
     return np.array(start, float), np.array(end, float)
 
 
-def guess_controls(decl: Declaration, values: dict[str, float]) -> np.ndarray:
-    return np.array([c.guess if c.guess is not None
-                     else _mid(*(resolve(b, values) for b in c.bounds))
-                     for c in decl.controls], float)
+def guess_controls(decl: Declaration, values: dict[str, float]
+                   ) -> tuple[np.ndarray, np.ndarray]:
+    """(start, end) of the controls' cold-start guess, linear in time between them: a
+    control's `guess` pair, or its one number at both ends, else mid-range."""
+    ends = []
+    for c in decl.controls:
+        if c.guess is None:
+            value = _mid(*(resolve(b, values) for b in c.bounds))
+            ends.append((value, value))
+        elif isinstance(c.guess, (tuple, list)):
+            ends.append(tuple(c.guess))
+        else:
+            ends.append((c.guess, c.guess))
+    pairs = np.array(ends, float).reshape(len(decl.controls), 2)
+    return pairs[:, 0], pairs[:, 1]
 
 
 def final_time_guess(decl: Declaration, values: dict[str, float]) -> float:
@@ -110,8 +121,9 @@ def build_ocp(decl: Declaration, traced: Traced) -> OCP:
     def guess(p: np.ndarray) -> Guess:
         v = _values(decl, p)
         start, end = guess_states(decl, v)
-        return Guess(x_final=end, u=guess_controls(decl, v), T=final_time_guess(decl, v),
-                     x_initial=start)
+        u_start, u_end = guess_controls(decl, v)
+        return Guess(x_final=end, u=u_start, T=final_time_guess(decl, v), x_initial=start,
+                     u_final=u_end)
 
     def initial_state(p: ca.SX) -> ca.SX:
         return ca.vertcat(*[symbolic(s.initial, decl, p) for s in decl.states])

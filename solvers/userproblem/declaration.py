@@ -81,11 +81,26 @@ def check(decl: Declaration) -> None:
     for s in decl.states:
         _check_state(s, defaults)
     for c in decl.controls:
-        lo, hi = (resolve(b, defaults) for b in c.bounds)
-        if not lo < hi:
-            raise DeclarationError(f"control '{c.name}': bounds [{lo:g}, {hi:g}] are empty",
-                                   c.where)
+        _check_control(c, defaults)
     _check_cost_and_time(decl, defaults)
+
+
+def _check_control(c: Control, defaults: Mapping[str, float]) -> None:
+    lo, hi = (resolve(b, defaults) for b in c.bounds)
+    if not lo < hi:
+        raise DeclarationError(f"control '{c.name}': bounds [{lo:g}, {hi:g}] are empty",
+                               c.where)
+    if c.guess is None:
+        return
+    ends = tuple(c.guess) if isinstance(c.guess, (tuple, list)) else (c.guess,)
+    if len(ends) not in (1, 2) or not all(
+            isinstance(v, (int, float)) and math.isfinite(v) for v in ends):
+        raise DeclarationError(f"control '{c.name}': guess must be a finite number or a pair "
+                               f"(start, end) of them, not {c.guess!r}", c.where)
+    outside = [v for v in ends if not lo <= v <= hi]
+    if outside:
+        raise DeclarationError(f"control '{c.name}': guess {outside[0]:g} is outside its "
+                               f"bounds [{lo:g}, {hi:g}]", c.where)
 
 
 def _check_names(decl: Declaration) -> None:

@@ -116,7 +116,7 @@ class UserMission(Mission):
         self._traced = trace(self.declaration)
         decl, values = self.declaration, self.declaration.defaults
         check_finite(self._traced, decl, *guess_states(decl, values),
-                     guess_controls(decl, values), parameter_vector(decl, values))
+                     guess_controls(decl, values)[0], parameter_vector(decl, values))
         self._ocp = build_ocp(self.declaration, self._traced)
         self._structure = self.declaration.structure()  # tells warm starts that fit
         check_names(self, self.declaration, where)

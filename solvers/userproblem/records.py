@@ -87,18 +87,22 @@ class State:
 
 @dataclass(frozen=True)
 class Control:
-    """A control with its bounds, scale and cold-start value (default: mid-range)."""
+    """A control with its bounds, scale and cold-start value: a number (constant), a pair
+    (start, end): linear in time from the first at the initial time to the second at the
+    final time (a thrust angle that turns through the flight), or None (mid-range)."""
 
     name: str
     unit: str = ""
     bounds: tuple[Value, Value] = (-INF, INF)
     scale: float | None = None
-    guess: float | None = None
+    guess: float | tuple[float, float] | None = None  # a list [start, end] too
     label: str = ""
     where: str = field(default="", init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         _located(self)
+        if isinstance(self.guess, list):
+            object.__setattr__(self, "guess", tuple(self.guess))
 
 
 @dataclass(frozen=True)

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import pickle
+import re
 import subprocess
 import sys
 import time
@@ -198,6 +199,37 @@ def test_records_that_name_nothing_are_refused(change, expected):
         kwargs["position"] = (change["position"],)
     with pytest.raises(DeclarationError, match=expected.replace("(", r"\(").replace(")", r"\)")):
         UserMission(**kwargs)
+
+
+@pytest.mark.parametrize(("guess", "expected"), [
+    ((0.0, 2.0), "guess 2 is outside its bounds [-1, 1]"),
+    ((0.0, float("nan")), "guess must be a finite number or a pair (start, end)"),
+    ((0.0, 0.5, 1.0), "guess must be a finite number or a pair (start, end)"),
+])
+def test_a_bad_control_guess_is_refused_at_its_line(guess, expected):
+    with pytest.raises(DeclarationError, match=re.escape(expected)):
+        UserMission(key="tiny", title="t", states=(State("x", initial=0.0, final=1.0),),
+                    controls=(Control("u", bounds=(-1, 1), guess=guess),),
+                    dynamics=lambda x, u, p: [u.u], final_time=FreeTime(2.0),
+                    minimum_time=True)
+
+
+def test_a_control_guess_pair_is_a_ramp_from_the_first_to_the_last_node():
+    """Issue 17: a control could only be guessed as a constant, so a thrust angle that turns
+    through the flight (orbit raising: 25 deg -> 311 deg) could not be seeded. The cold
+    start of every direct method interpolates linearly in time between the pair."""
+    from solvers.transcription import direct_transcription
+
+    m = UserMission(key="ramp", title="t", states=(State("x", initial=0.0, final=1.0),),
+                    controls=(Control("u", bounds=(-1, 1), guess=[-0.5, 0.75]),),
+                    dynamics=lambda x, u, p: [u.u], final_time=2.0,
+                    lagrange=lambda x, u, p: u.u**2)
+    values = m.defaults("hermite-simpson")
+    p = m.parameter_vector(values)
+    for kind in ("hermite-simpson", "multiple-shooting", "lgl"):
+        t = direct_transcription(kind, m.ocp(m.method(kind), values), 8)
+        U = t._unpack(t._cold_guess(p, t.tau), p)[1]
+        np.testing.assert_allclose(np.ravel(U), -0.5 + 1.25 * t.tau, atol=1e-12)
 
 
 # ---- the double integrator: analytic optimum, misses, drawing -------------------------------

@@ -301,3 +301,27 @@ def test_followers_take_the_teachers_camera_and_clock_only_while_shared(room):
     lead.wait_idle(10)
     until(lambda: a.values["x"] == 2.0, "the teacher's case")
     assert seen_a[-1] == second and not seen_b
+
+
+def test_the_teachers_panel_offers_a_freeze_box_per_parameter_of_the_case(room):
+    """The Room folder's challenge boxes come from the room's case (a real viser GUI, no
+    browser): one per parameter of the case's method, rebuilt only when the case's mission
+    changes."""
+    import viser
+
+    from explorer.capture import free_port
+    from explorer.panels.room import RoomPanel
+
+    mission, lead, room, student = room
+    student(1)
+    until(lambda: room.case is not None and room.case.latest is not None, "the room's case")
+    server = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)
+    try:
+        panel = RoomPanel(server.gui, room)
+        panel.refresh()
+        assert sorted(panel.freeze) == ["x", "y"]
+        boxes = dict(panel.freeze)
+        panel.refresh()
+        assert panel.freeze == boxes  # the same case: the same boxes
+    finally:
+        server.stop()
