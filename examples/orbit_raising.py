@@ -62,6 +62,7 @@ MISSION = UserMission(
     final=(FinalConstraint("circular", lambda xf, p: xf.vt - xf.r**-0.5),),
     final_time="tf",
     position=lambda x, p: (x.r * cos(x.theta), x.r * sin(x.theta)),
+    position_unit="r0",  # canonical: the initial orbit's radius
     cost_label="final radius",
     methods=(HERMITE_SIMPSON.replace(nodes=(10, 60, 400)),
              MULTIPLE_SHOOTING.replace(nodes=(10, 60, 400))),
