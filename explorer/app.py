@@ -153,12 +153,13 @@ class ExplorerApp:
         if self.service is not None:
             self.service.reload_mission_files(self.files.files)
         for view in self._all_views():
+            view.file_loaded(path)
             view.mission_reloaded(mission, self.missions)
 
     def _file_error(self, path: str, message: str) -> None:
         """A mission file failed to load: every tab hears it; the old mission stays."""
         for view in self._all_views():
-            view.refuse(f"mission file {Path(path).name} not loaded", message)
+            view.file_broken(path, f"mission file {Path(path).name} not loaded", message)
 
     def stop(self) -> None:
         with self._lock:

@@ -145,6 +145,13 @@ class View(ViewDrawing):
     def _say_replay(self, text: str) -> None:
         self.play.show_replay(text)
 
+    def file_broken(self, path: str, title: str, message: str) -> None:
+        """A mission file failed to load: a notice that stays until the file loads again."""
+        self.status.notify_file(self.camera.clients.values(), path, title, message)
+
+    def file_loaded(self, path: str) -> None:
+        self.status.clear_file_notice(path)
+
     def refuse(self, title: str, message: str) -> None:
         """A typed value was refused: say why in every watching browser."""
         self.status.notify(self.camera.clients.values(), title, message)

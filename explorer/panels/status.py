@@ -203,6 +203,7 @@ class StatusPanel:
             self.details = gui.add_markdown("")
         self.result_md = ""
         self._notices: list[viser.NotificationHandle] = []
+        self._file_notices: dict[str, list[viser.NotificationHandle]] = {}
 
     def show_legend(self, html: str) -> None:
         self.legend.content = html
@@ -255,3 +256,16 @@ class StatusPanel:
         for notice in self._notices:
             notice.remove()
         self._notices = []
+
+    def notify_file(self, clients: Iterable[viser.ClientHandle], path: str, title: str,
+                    body: str) -> None:
+        """A mission file that does not load: the notice stays (no answer closes it, the
+        file is still broken) until the file loads again (`clear_file_notice`)."""
+        self.clear_file_notice(path)
+        self._file_notices[path] = [
+            c.add_notification(title, body, color="red", auto_close_seconds=None)
+            for c in list(clients)]
+
+    def clear_file_notice(self, path: str) -> None:
+        for notice in self._file_notices.pop(path, []):
+            notice.remove()

@@ -15,8 +15,6 @@ pytestmark = BROWSER
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "double_integrator.py"
 
 
-
-
 def test_a_saved_mission_file_reloads_and_a_broken_one_is_reported(tmp_path):
     from explorer.app import ExplorerApp
     from explorer.capture import CAPTURE_TIME_LIMIT, chromium, free_port, open_tab
@@ -52,5 +50,11 @@ def test_a_saved_mission_file_reloads_and_a_broken_one_is_reported(tmp_path):
             until(lambda: view.session.wait_idle(60) and view.session.latest
                    and view.session.latest.mission == "lunar-landing"
                    and view.session.latest.ok, "a lunar solve after the broken file")
+            # The file is still broken: an answer does not close its notice ...
+            assert page.get_by_text("my_problem.py:").first.is_visible()
+            # ... a good save does.
+            path.write_text(text)
+            page.get_by_text("my_problem.py:").first.wait_for(state="hidden",
+                                                              timeout=PATIENCE_MS)
     finally:
         app.stop()
