@@ -166,8 +166,9 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     for key in keys:
         for value in axes[key]:
             mission.validate({**fixed, key: value}, args.method, args.nodes)
-    rows = mission_grid(mission.key, axes, fixed, args.method, args.nodes, args.scheduler,
-                        args.workers, mission_files=args.files, time_limit=args.time_limit)
+    rows = mission_grid(mission.key, axes, fixed, method=args.method, nodes=args.nodes,
+                        scheduler=args.scheduler, workers=args.workers,
+                        mission_files=args.files, time_limit=args.time_limit)
     if args.out is not None:
         _write(args.out, "--out", json.dumps(rows, allow_nan=False))
     print("  ".join([*keys, "status", rows[0]["cost"]["label"] if rows else "cost", "wall_s"]))

@@ -26,14 +26,12 @@ import math
 import threading
 import time
 from collections.abc import Mapping
-from typing import TYPE_CHECKING
+from typing import TypedDict, Unpack
 
+from .context import ProgressCallback
 from .solution import Solution
 from .solvable import SolvableMission
 from .transcription import convergence_order
-
-if TYPE_CHECKING:
-    from .context import ProgressCallback
 
 SAFETY = 2.0  # aim below the target by this factor
 GROWTH_MIN, GROWTH_MAX = 1.25, 3.0
@@ -72,19 +70,18 @@ def _step(sol: Solution, wall: float) -> dict[str, float]:
     return step
 
 
-def solve_auto(
-    mission: SolvableMission,
-    values: Mapping[str, float] | None,
-    method: str | None,
-    *,
-    tol: float | None = None,
-    backend: str | None = None,
-    warm: Solution | None = None,
-    cold: bool = False,
-    progress: ProgressCallback | None = None,
-    cancel: threading.Event | None = None,
-    time_limit: float | None = None,
-) -> Solution:
+class StepOptions(TypedDict, total=False):
+    """What every refinement step passes on to `Mission.solve` unchanged."""
+
+    tol: float | None
+    backend: str | None
+    progress: ProgressCallback | None
+    cancel: threading.Event | None
+
+
+def solve_auto(mission: SolvableMission, values: Mapping[str, float] | None, method: str | None,
+               *, warm: Solution | None = None, cold: bool = False,
+               time_limit: float | None = None, **step: Unpack[StepOptions]) -> Solution:
     """Refine until the re-propagated miss meets the targets (see the module docstring).
     The first step starts at the method's default node count (or at `warm`'s, when `warm` is
     a converged solution of the same method); every later step is warm-started from the
@@ -92,7 +89,7 @@ def solve_auto(
     converged step's solution with `mesh` filled in."""
     m = mission.method(method)
     mission.validate(values, m.key, None)
-    mission.accuracy_targets(tol)  # refuses a bad tol before any work
+    mission.accuracy_targets(step.get("tol"))  # refuses a bad tol before any work
     usable = (warm is not None and warm.converged and warm.mission == mission.key
               and warm.method == m.key)
     n = warm.nodes if usable else m.nodes[1]
@@ -106,9 +103,8 @@ def solve_auto(
         if remaining is not None and remaining <= 0:
             break
         t0 = time.perf_counter()
-        sol = mission.solve(values, m.key, n, tol=tol, backend=backend,
-                            warm=warm if usable else None,
-                            progress=progress, cancel=cancel, time_limit=remaining)
+        sol = mission.solve(values, m.key, n, warm=warm if usable else None,
+                            time_limit=remaining, **step)
         steps.append(_step(sol, time.perf_counter() - t0))
         if not sol.converged:
             if best is None:

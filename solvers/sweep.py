@@ -20,7 +20,7 @@ import os
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from concurrent.futures import Executor, ProcessPoolExecutor
 from contextlib import contextmanager
-from typing import Any
+from typing import Any, TypedDict, Unpack
 
 import numpy as np
 
@@ -92,58 +92,51 @@ def solve_summary(mission_key: str, values: Mapping[str, float], method: str | N
                                           time_limit=time_limit).to_dict()
 
 
-def mission_grid(
-    mission_key: str,
-    axes: Mapping[str, Sequence[float]],
-    fixed: Mapping[str, float] | None = None,
-    method: str | None = None,
-    nodes: int | None = None,
-    scheduler: str | None = None,
-    workers: int | None = None,
-    mission_files: Sequence[str] = (),
-    time_limit: float | None = None,
-) -> list[dict[str, Any]]:
-    """Solve a mission on the Cartesian product of `axes` (param key -> values);
-    `mission_files` are loaded by every worker (a mission declared in a file); `time_limit`
-    bounds each solve and its check (None: no limit)."""
+class SweepOptions(TypedDict, total=False):
+    """How every solve of a sweep runs: `method` and `nodes` (None: the mission's defaults),
+    `scheduler` (a dask address; None: the solve service's worker processes), `workers`,
+    `mission_files` (loaded by every worker: a mission declared in a file) and `time_limit`
+    (s, bounding each solve and its check; None: no limit)."""
+
+    method: str | None
+    nodes: int | None
+    scheduler: str | None
+    workers: int | None
+    mission_files: Sequence[str]
+    time_limit: float | None
+
+
+def mission_grid(mission_key: str, axes: Mapping[str, Sequence[float]],
+                 fixed: Mapping[str, float] | None = None, **options: Unpack[SweepOptions]
+                 ) -> list[dict[str, Any]]:
+    """Solve a mission on the Cartesian product of `axes` (param key -> values), the other
+    parameters at `fixed` (or their defaults)."""
     keys = list(axes)
     value_sets = [dict(fixed or {}, **dict(zip(keys, combo, strict=True)))
                   for combo in itertools.product(*(axes[k] for k in keys))]
-    return _solve_all(mission_key, value_sets, method, nodes, scheduler, workers, mission_files,
-                      time_limit)
+    return _solve_all(mission_key, value_sets, options)
 
 
-def monte_carlo(
-    mission_key: str,
-    sampler: Callable[[np.random.Generator], Mapping[str, float]],
-    runs: int,
-    seed: int = 0,
-    fixed: Mapping[str, float] | None = None,
-    method: str | None = None,
-    nodes: int | None = None,
-    scheduler: str | None = None,
-    workers: int | None = None,
-    mission_files: Sequence[str] = (),
-    time_limit: float | None = None,
-) -> list[dict[str, Any]]:
-    """Solve a mission for `runs` value sets drawn by `sampler(rng)` (seeded, repeatable);
-    `time_limit` bounds each solve and its check (None: no limit)."""
+def monte_carlo(mission_key: str, sampler: Callable[[np.random.Generator], Mapping[str, float]],
+                runs: int, seed: int = 0, fixed: Mapping[str, float] | None = None,
+                **options: Unpack[SweepOptions]) -> list[dict[str, Any]]:
+    """Solve a mission for `runs` value sets drawn by `sampler(rng)` (seeded, repeatable)."""
     rng = np.random.default_rng(seed)
     value_sets = [dict(fixed or {}, **sampler(rng)) for _ in range(runs)]
-    return _solve_all(mission_key, value_sets, method, nodes, scheduler, workers, mission_files,
-                      time_limit)
+    return _solve_all(mission_key, value_sets, options)
 
 
-def _solve_all(mission_key: str, value_sets: list[dict[str, float]], method: str | None,
-               nodes: int | None, scheduler: str | None, workers: int | None,
-               mission_files: Sequence[str] = (), time_limit: float | None = None
+def _solve_all(mission_key: str, value_sets: list[dict[str, float]], options: SweepOptions
                ) -> list[dict[str, Any]]:
     n = len(value_sets)
+    method, nodes = options.get("method"), options.get("nodes")
+    files, time_limit = list(options.get("mission_files", ())), options.get("time_limit")
+    scheduler, workers = options.get("scheduler"), options.get("workers")
     if scheduler:
         with executor(scheduler, workers) as ex:
             return list(ex.map(solve_summary, [mission_key] * n, value_sets, [method] * n,
-                               [nodes] * n, [list(mission_files)] * n, [time_limit] * n))
-    with SolveService(workers, prebuild=False, mission_files=mission_files) as service:
+                               [nodes] * n, [files] * n, [time_limit] * n))
+    with SolveService(workers, prebuild=False, mission_files=files) as service:
         jobs = [service.submit(SolveRequest(mission_key, method, nodes, values=dict(v),
                                             time_limit=time_limit))
                 for v in value_sets]
