@@ -34,6 +34,7 @@ from .handles import Handle, Sphere
 from .optimality import too_few_nodes
 from .presentation import Presentation
 from .problem import Consistency, Method, Param, Preset, Published, validate_values
+from .problem_module import adopt
 from .refine import solve_auto
 from .solution import Label, Quantity, Solution, WarmStart
 from .transcription import Transcription, direct_transcription
@@ -41,16 +42,6 @@ from .verify import repropagate
 
 if TYPE_CHECKING:
     from .ocp import OCP, OCPResult
-
-# A mission attribute and the names a mission's `problem` module gives it (the first found).
-RECORD_NAMES: dict[str, tuple[str, ...]] = {
-    "source": ("PAPER", "SOURCE"), "params": ("PARAMS",), "view_params": ("VIEW_PARAMS",),
-    "handles": ("HANDLES",), "shapes": ("SHAPES",), "published": ("PUBLISHED",),
-    "presets": ("PRESETS",), "equations": ("EQUATIONS",), "tolerances": ("TOLERANCES",),
-    "labels": ("LABELS",), "consistency": ("CONSISTENCY",), "cost_label": ("COST_LABEL",),
-    "cost_unit": ("COST_UNIT",),
-}
-
 
 class Mission:
     """A mission is data plus `solve` and `present`.
@@ -85,17 +76,12 @@ class Mission:
     shapes: tuple[Sphere, ...] = ()  # obstacles drawn in the 3D view, bound to params
 
     def __init_subclass__(cls, records: ModuleType | None = None, **kwargs: Any) -> None:
-        """`class M(Mission, records=problem)` takes each record the mission's `problem`
-        module defines (`PARAMS` -> `params`, `PAPER` or `SOURCE` -> `source`: see
-        `RECORD_NAMES`) unless the class body sets it, so a package's `__init__` does not
-        list its own records again."""
+        """`class M(Mission, records=problem)` takes the records (`PARAMS` -> `params`, ...)
+        and the hooks (`precheck`, `ocp`, ...) the mission's `problem` module defines and the
+        class body does not (`solvers.problem_module`)."""
         super().__init_subclass__(**kwargs)
-        if records is None:
-            return
-        for attr, names in RECORD_NAMES.items():
-            found = [getattr(records, n) for n in names if hasattr(records, n)]
-            if found and attr not in cls.__dict__:
-                setattr(cls, attr, found[0])
+        if records is not None:
+            adopt(cls, records)
 
     # ---- records ------------------------------------------------------------------------
     @property

@@ -57,18 +57,6 @@ class ApolloReentry(Mission, records=problem):
     )
     cost_label = "heat load J"
 
-    def check_values(self, values: dict[str, float]) -> None:
-        problem.check_values(values)
-
-    def parameter_vector(self, values: dict[str, float]) -> np.ndarray:
-        return problem.parameter_vector(values)
-
-    def precheck(self, values: dict[str, float], p: np.ndarray) -> None:
-        problem.precheck(values)
-
-    def ocp(self, method: Method, values: dict[str, float]) -> OCP:
-        return problem.ocp()
-
     def solve_direct(self, values: dict[str, float], method: Method, nodes: int, backend: str,
                      warm: Solution | None, ctx: SolveContext) -> Solution:
         """The general path, with multiple shooting's RK4 steps kept near 3 s whatever the

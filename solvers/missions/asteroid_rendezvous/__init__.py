@@ -10,11 +10,8 @@ CLI (`python -m solvers launch-map`).
 
 from __future__ import annotations
 
-import numpy as np
-
 from ...context import SolveContext
 from ...mission import Mission
-from ...ocp import OCP
 from ...problem import Method
 from ...solution import Solution
 from . import problem, view
@@ -30,18 +27,9 @@ class AsteroidRendezvous(Mission, records=problem):
     cost_label = "fuel"
     cost_unit = "kg"
 
-    def check_values(self, values: dict[str, float]) -> None:
-        problem.check_values(values)
-
     def help_tables(self) -> dict[str, str]:
         guesses = "\n".join(f"- {i}: {name}" for i, name in enumerate(problem.GUESS_OPTIONS))
         return {**super().help_tables(), "guesses": guesses}
-
-    def ocp(self, method: Method, values: dict[str, float]) -> OCP:
-        return problem.ocp()
-
-    def parameter_vector(self, values: dict[str, float]) -> np.ndarray:
-        return problem.parameter_vector(values)
 
     def solves_itself(self, method: Method) -> bool:
         """The Hermite–Simpson method starts from the swarm's guess (paper 003 §3.1)."""

@@ -8,8 +8,7 @@ import numpy as np
 
 from ...methods import HERMITE_SIMPSON, LGL, MULTIPLE_SHOOTING
 from ...mission import Mission
-from ...ocp import OCP, OCPResult
-from ...problem import Method
+from ...ocp import OCPResult
 from ...solution import Quantity, Solution
 from . import problem, view
 
@@ -22,12 +21,6 @@ class BangBang(Mission, records=problem):
                MULTIPLE_SHOOTING.replace(nodes=(4, 100, 200)), LGL.replace(nodes=(6, 40, 80)))
     cost_label = "final time"
     cost_unit = "s"
-
-    def parameter_vector(self, values: dict[str, float]) -> np.ndarray:
-        return problem.parameter_vector(values)
-
-    def ocp(self, method: Method, values: dict[str, float]) -> OCP:
-        return problem.ocp()
 
     def record(self, sol: Solution, res: OCPResult, p: np.ndarray) -> None:
         optimum = problem.optimal_time(p)

@@ -43,12 +43,6 @@ class CWRendezvous(Mission, records=problem):
     cost_label = "burn time"
     cost_unit = "s"
 
-    def parameter_vector(self, values: dict[str, float]) -> np.ndarray:
-        return problem.parameter_vector(values)
-
-    def precheck(self, values: dict[str, float], p: np.ndarray) -> None:
-        problem.precheck(p)
-
     def ocp(self, method: Method, values: dict[str, float]) -> OCP:
         return problem.free_ocp()
 

@@ -36,7 +36,7 @@ class EllipticTransfer(Mission, records=problem):
     def _solve(self, values: dict[str, float], method: Method, nodes: int, backend: str,
                warm: Solution | None, ctx: SolveContext) -> Solution:
         case = make_case(values)
-        problem.precheck(case)
+        problem.precheck_case(case)
         return solve_method(case, values, method, nodes, backend=backend, warm=warm, ctx=ctx)
 
     _present = staticmethod(view.present)

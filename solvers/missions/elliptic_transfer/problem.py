@@ -133,7 +133,7 @@ EQUATIONS = (
 )
 
 
-def precheck(case: Case) -> None:
+def precheck_case(case: Case) -> None:
     """Refuse a target orbit whose perigee is too low, naming the bound."""
     perigee = case.orbit.a * (1 - case.orbit.e)
     if perigee < R_EARTH + MIN_PERIGEE_ALTITUDE:

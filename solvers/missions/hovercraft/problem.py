@@ -180,7 +180,7 @@ def _bounds(p: np.ndarray, vector: bool) -> Bounds:
 
 
 @cache
-def ocp(vector: bool) -> OCP:
+def stage_ocp(vector: bool) -> OCP:
     """The paper's problem with the angle control, or with the thrust vector |u| <= 1."""
 
     def guess(p: np.ndarray) -> Guess:

@@ -45,7 +45,7 @@ def _as_vector(warm: WarmStart) -> WarmStart:
 def _stage(method: Method, nodes: int, backend: str, vector: bool, p: np.ndarray, *,
            start: WarmStart | None, ctx: SolveContext) -> OCPResult:
     """One solve of the thrust-vector (`vector`) or the angle form."""
-    transcription = direct_transcription(method.transcription, problem.ocp(vector), nodes,
+    transcription = direct_transcription(method.transcription, problem.stage_ocp(vector), nodes,
                                          backend, **dict(method.options))
     return transcription.solve(p, start, ctx)
 
@@ -175,7 +175,7 @@ def _add_reference(sol: Solution, p: np.ndarray) -> None:
 def check(sol: Solution, p: np.ndarray, res: OCPResult, vector: bool) -> dict[str, float]:
     """Re-propagate the method's own control (in the form it was solved in) with DOP853 and
     report the terminal miss; the local error of every interval (position, m)."""
-    fn = problem.ocp(vector).functions()
+    fn = problem.stage_ocp(vector).functions()
     _, X = repropagate(fn.f, p, p[P_X0], res.control, res.t_nodes, atol=1e-12)
     errors = interval_error.local_errors(fn.f, p, res.t_nodes, res.X, res.controls, 1e-12)
     interval_error.record(sol, interval_error.error_series(

@@ -29,18 +29,6 @@ class LunarLanding(Mission, records=problem):
     cost_label = "fuel"
     cost_unit = "kg"
 
-    def check_values(self, values: dict[str, float]) -> None:
-        problem.check_values(values)
-
-    def parameter_vector(self, values: dict[str, float]) -> np.ndarray:
-        return problem.parameter_vector(values)
-
-    def precheck(self, values: dict[str, float], p: np.ndarray) -> None:
-        problem.precheck(p)
-
-    def ocp(self, method: Method, values: dict[str, float]) -> OCP:
-        return problem.ocp()
-
     def record(self, sol: Solution, res: OCPResult, p: np.ndarray) -> None:
         sol.quantities = landing_quantities(p, res.t_nodes, res.X)
 
