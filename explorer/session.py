@@ -254,13 +254,15 @@ class Session:
     def request_time_limit(self, compare: bool = False, cold: bool = False) -> float | None:
         """The limit of the next solve: `time_limit`, times `COLD_FACTOR` when it cannot be
         warm-started (first solve of this mission and method, a cold solve or a
-        comparison)."""
+        comparison), and then never below `COLD_FACTOR` times the mission's stated cold time
+        (`Mission.cold_seconds`: the asteroid's first solve takes 10 s by nature, and a
+        limit made for slider moves must not cut it off)."""
         good = self.last_good
         warm = (good is not None and good.mission == self.mission.key
                 and good.method == self.method and good.converged)
         if self.time_limit is None or (warm and not compare and not cold):
             return self.time_limit
-        return COLD_FACTOR * self.time_limit
+        return COLD_FACTOR * max(self.time_limit, self.mission.cold_seconds)
 
     def case(self) -> SolveRequest:
         """The current state as the record a runner solves."""

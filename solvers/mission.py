@@ -71,6 +71,9 @@ class Mission:
     cost_label: str = "cost"
     cost_unit: str = ""
     vehicle: str = "default"
+    # s: the default case's cold solve on a 2-core laptop (bench_missions), for a mission
+    # whose first solve is slow by nature; a live session's cold limit allows for it.
+    cold_seconds: float = 0.0
     labels: Mapping[str, Label] = {}  # screen names of states, controls and check entries
     handles: tuple[Handle, ...] = ()  # points dragged in the 3D view, bound to params
     shapes: tuple[Sphere, ...] = ()  # obstacles drawn in the 3D view, bound to params

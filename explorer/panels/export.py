@@ -41,7 +41,8 @@ class ExportPanel:
             self.time_limit = TimeLimitField(
                 gui, "solve time limit [s]", time_limit, on_time_limit, report,
                 hint=f"A solve still running after this is stopped (status 'time-limit'); "
-                     f"a cold start (new method, comparison) gets three times as long; "
+                     f"a cold start (new method, comparison) gets three times as long, or "
+                     f"three times a slow mission's first solve (the asteroid's 10 s); "
                      f"{lo:g} to {hi:g} s, or 0: no limit.")
             self.dark = gui.add_checkbox("dark mode", True, hint="Dark or light theme.")
             self.dark.on_update(lambda _: on_dark(bool(self.dark.value)))

@@ -208,6 +208,24 @@ def test_session_passes_its_time_limit_and_runs_comparisons():
     session.close()
 
 
+def test_a_slow_missions_first_solve_gets_the_time_it_states():
+    """The asteroid's cold solve takes about 10 s by nature (`cold_seconds`): a session whose
+    per-solve limit is made for slider moves still gives its first solve three times that,
+    while a mission that states nothing keeps three times the session's limit."""
+    from solvers import get_mission
+
+    asteroid, lunar = get_mission("asteroid-rendezvous"), get_mission("lunar-landing")
+    assert asteroid.cold_seconds >= 5.0 and lunar.cold_seconds == 0.0
+    slow = Session(asteroid, auto=False, time_limit=5.0)
+    fast = Session(lunar, auto=False, time_limit=5.0)
+    assert slow.request_time_limit() == pytest.approx(COLD_FACTOR * asteroid.cold_seconds)
+    assert fast.request_time_limit() == pytest.approx(COLD_FACTOR * 5.0)
+    slow.set_time_limit(None)
+    assert slow.request_time_limit() is None  # no limit stays no limit
+    slow.close()
+    fast.close()
+
+
 def test_exports(tmp_path):
     from explorer.export import scene_html, solution_csv, solution_json
     from solvers import get_mission
