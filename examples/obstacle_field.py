@@ -13,7 +13,8 @@ side of an obstacle is a local optimum of its own) and costs more.
 The clearances hold at the mesh points only, so between them the path cuts a little into
 each obstacle it slides along, and the cost converges like the square of the spacing. At
 the live defaults the estimated cost error is about 0.2 % (status `inaccurate` against the
-1e-4 target, said on screen); "refine" meets the target at about 160 intervals.
+1e-4 target, said on screen); "refine" meets it (40 → 101 → 300 intervals, J = 1.98547,
+6 s on a 2-core laptop).
 """
 
 from solvers.handles import Sphere

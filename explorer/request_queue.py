@@ -1,6 +1,7 @@
 """The newest-request-wins queue of one session: one waiting request at most, run on the
 queue's own thread; a newer request cancels the running one (or, with `patience`, lets a young
-one finish so a slider drag shows its intermediate optima) and replaces the waiting one."""
+one's solve finish so a slider drag shows its intermediate optima; a check is never waited
+for) and replaces the waiting one."""
 
 from __future__ import annotations
 
@@ -33,7 +34,8 @@ class RequestQueue:
             running = self._running
             if running is not None:
                 age = time.monotonic() - running.started
-                if age < self.patience and not running.compare and not request.compare:
+                if (age < self.patience and not running.answered.is_set()
+                        and not running.compare and not request.compare):
                     running.superseded.set()
                     timer = threading.Timer(self.patience - age, self._give_up, (running,))
                     timer.daemon = True

@@ -25,6 +25,9 @@ class Request:
     # A newer request came in, but this one may finish and be drawn (a slider drag shows
     # its intermediate optima); its check is skipped.
     superseded: threading.Event = field(default_factory=threading.Event, compare=False)
+    # Its answer is out and only its check runs: a newer request cancels it at once (the
+    # optimum is on screen; waiting for the check of a superseded answer only delays the next).
+    answered: threading.Event = field(default_factory=threading.Event, compare=False)
     started: float = field(default_factory=time.monotonic, compare=False)
 
     @property

@@ -334,6 +334,10 @@ class Session:
                 or request.superseded.is_set():
             pending.discard()
             return
+        request.answered.set()  # a newer request need not wait for this check
+        if request.superseded.is_set():  # it came in between: it cancels nothing now
+            pending.discard()
+            return
         pending.check()
         if not self._stale(request):
             self._emit("on_check", request, sol)
