@@ -255,13 +255,22 @@ def path_segments(pres: Presentation, positions: np.ndarray | None = None) -> np
     return polyline_segments(pos) if len(pos) > 1 else np.zeros((0, 2, 3))
 
 
+def _srgb_to_linear_table() -> np.ndarray:
+    c = np.arange(256) / 255.0
+    lin = np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+    return np.round(255.0 * lin).astype(np.uint8)
+
+
+_LINEAR = _srgb_to_linear_table()  # one entry per 8-bit sRGB level
+
+
 def line_colors(srgb: np.ndarray) -> np.ndarray:
     """viser's line shader takes vertex colours as linear and encodes them to sRGB on output
     (measured: (255, 140, 0) is drawn as (231, 203, 68)); decode first so lines show the
-    colour asked for, like meshes and points do."""
-    c = np.asarray(srgb, float) / 255.0
-    lin = np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
-    return np.round(255.0 * lin).astype(np.uint8)
+    colour asked for, like meshes and points do. A table lookup per 8-bit level: every
+    follower of a classroom decodes every path's colours on every answer."""
+    levels = np.clip(np.rint(np.asarray(srgb, float)), 0, 255).astype(np.intp)
+    return _LINEAR[levels]
 
 
 def fade(rgb: np.ndarray | tuple[int, int, int], amount: float, dark: bool = True) -> np.ndarray:

@@ -7,6 +7,7 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Iterable
+from functools import lru_cache
 
 import viser
 from markdown_it import MarkdownIt
@@ -168,9 +169,10 @@ def rejected_markdown(message: str, kept: bool) -> str:
 _MD = MarkdownIt("commonmark")
 
 
+@lru_cache(maxsize=64)
 def status_html(markdown: str) -> str:
     """The status markdown as HTML in the element `#explorer-status` (tests and the browser
-    benchmark find it by that id)."""
+    benchmark find it by that id); cached, as a classroom's followers show the same text."""
     return f'<div id="explorer-status">{_MD.render(markdown)}</div>'
 
 
