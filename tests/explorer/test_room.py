@@ -266,7 +266,9 @@ def test_followers_share_the_teachers_plot_figure():
         answer = teacher.session.latest
         until(lambda: all(v._shown and v._shown[0] is answer for v in followers),
               "the teacher's answer on every follower", 60.0)
-        assert SHARED.built == built + 1  # one figure for the room
+        # One figure for the room, not one per follower: the answer's, and on a slow machine
+        # the previous answer dimmed while the solve ran (its progress reached the room).
+        assert SHARED.built - built in (1, 2)
         sent = {v.side.plot._plotly_json_str for v in views}
         assert len(sent) == 1 and '"x": [' in sent.pop()
         room.close()
