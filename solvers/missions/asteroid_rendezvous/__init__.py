@@ -26,7 +26,7 @@ class AsteroidRendezvous(Mission, records=problem):
     methods = (LOW_THRUST, IMPULSIVE)
     cost_label = "fuel"
     cost_unit = "kg"
-    cold_seconds = 10.0  # bench_missions: 8.5-10.3 s cold at the defaults (400 segments)
+    cold_seconds = 10.0  # bench_missions: 11.1-11.8 s cold with the NLP build, 6.1-6.2 s built
 
     def help_tables(self) -> dict[str, str]:
         guesses = "\n".join(f"- {i}: {name}" for i, name in enumerate(problem.GUESS_OPTIONS))
