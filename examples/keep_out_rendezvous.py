@@ -17,7 +17,6 @@ import math
 
 from casadi import sqrt
 
-from solvers.handles import Sphere
 from solvers.userproblem import (
     HERMITE_SIMPSON,
     MULTIPLE_SHOOTING,
@@ -25,6 +24,7 @@ from solvers.userproblem import (
     Control,
     Param,
     PathConstraint,
+    Sphere,
     State,
     UserMission,
 )

@@ -17,7 +17,6 @@ the live defaults the estimated cost error is about 0.2 % (status `inaccurate` a
 6 s on a 2-core laptop).
 """
 
-from solvers.handles import Sphere
 from solvers.problem import Preset
 from solvers.userproblem import (
     HERMITE_SIMPSON,
@@ -27,6 +26,7 @@ from solvers.userproblem import (
     Param,
     PathConstraint,
     Published,
+    Sphere,
     State,
     UserMission,
 )

@@ -1,5 +1,6 @@
 """Handles and shapes dragged in the 3D view: each mission's `Handle`s (a start, a target)
-and `Sphere`s (a keep-out zone) drawn as viser transform controls bound to parameters.
+and shapes (a keep-out sphere, a glide-slope cone: `solvers.shapes`) drawn as viser
+transform controls bound to parameters, each shape a unit mesh placed and scaled by them.
 
 A drag event sets the bound values the way a slider does (clamped at the range's end, the
 label saying so, never an exception) and asks the session for a solve: its newest request
@@ -22,9 +23,10 @@ import numpy as np
 import viser
 
 from solvers import palette
-from solvers.handles import Handle, Sphere, values_at
+from solvers.handles import Handle, values_at
 from solvers.presentation import Presentation
 from solvers.problem import Param
+from solvers.shapes import Shape
 
 from .geometry import MERGE_LABELS, Geometry, steady
 from .panels.setup import Controls
@@ -46,7 +48,7 @@ class _Drawn:
     handle: Handle
     gizmo: viser.TransformControlsHandle
     label: viser.LabelHandle
-    shape: Sphere | None = None
+    shape: Shape | None = None
     mesh: Any = None
     shaft: Any = None  # an arrow's line from its tail to the gizmo
     held: tuple[str, ...] = ()
@@ -128,7 +130,10 @@ class Handles:
                 drawn = self._drawn.get(handle.key)
                 if drawn is None:
                     drawn = self._drawn[handle.key] = self._add(handle, shape)
-                drawn.gizmo.visible = handle.shown_in(view)
+                shown = handle.shown_in(view)
+                drawn.gizmo.visible = shown and bool(handle.params)  # a fixed shape: no gizmo
+                if drawn.mesh is not None:
+                    drawn.mesh.visible = shown
                 if drawn.gizmo.scale != self._size and not drawn.dragging:
                     drawn.gizmo.scale = self._size
             self._sync(self.session.values)
@@ -151,9 +156,10 @@ class Handles:
         """Remove every handle (another mission)."""
         with self._lock:
             for drawn in self._drawn.values():
-                drawn.gizmo.remove()  # takes its label and mesh with it
-                if drawn.shaft is not None:
-                    drawn.shaft.remove()
+                drawn.gizmo.remove()  # takes its label with it
+                for beside in (drawn.shaft, drawn.mesh):
+                    if beside is not None:
+                        beside.remove()
             self._drawn.clear()
             self._mission = ""
 
@@ -172,7 +178,7 @@ class Handles:
             self._sync(request.solve.values)
 
     # ---- drawing -------------------------------------------------------------------------
-    def _add(self, handle: Handle, shape: Sphere | None) -> _Drawn:
+    def _add(self, handle: Handle, shape: Shape | None) -> _Drawn:
         name = f"{self.root}/handles/{handle.key}"
         gizmo = self.scene.add_transform_controls(
             name, scale=self._size, active_axes=handle.active_axes, disable_rotations=True,
@@ -186,10 +192,11 @@ class Handles:
             drawn.shaft = self.scene.add_line_segments(
                 f"{name}_shaft", np.zeros((1, 2, 3), np.float32), palette.LABEL,
                 line_width=3.0)
-        if shape is not None:
-            drawn.mesh = self.scene.add_icosphere(
-                f"{name}/shape", 1.0, palette.BOUND, subdivisions=3, opacity=0.35,
-                cast_shadow=False, receive_shadow=False)
+        if shape is not None:  # beside the gizmo, not under it: a fixed shape has none shown
+            vertices, faces = shape.unit_mesh()
+            drawn.mesh = self.scene.add_mesh_simple(
+                f"{name}_shape", vertices, faces, color=palette.BOUND, opacity=0.35,
+                side="double", cast_shadow=False, receive_shadow=False)
         gizmo.on_update(lambda event: self._dragged(drawn, event.phase))
         return drawn
 
@@ -206,8 +213,9 @@ class Handles:
                 drawn.shaft.points = np.array([[self._scale * np.array(h.tail(values, view)),
                                                 drawn.gizmo.position]], np.float32)
             drawn.label.text = describe(h, values, params, drawn.held)
-            if drawn.shape is not None:
-                drawn.mesh.radius = self._scale * drawn.shape.size(values, view)
+            if drawn.shape is not None:  # where the values put it (clamped), not the hand
+                drawn.mesh.position = tuple(self._scale * np.array(h.where(values, view)))
+                drawn.mesh.scale = tuple(self._scale * np.array(drawn.shape.scale(values, view)))
 
     # ---- dragging ------------------------------------------------------------------------
     def drag(self, key: str, position: tuple[float, float, float], phase: str = "update") -> None:

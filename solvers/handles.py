@@ -1,6 +1,6 @@
 """Things a person drags in the 3D view, bound to parameters: `Handle` (a point: a start, a
-target; or an arrow's tip: a velocity) and `Sphere` (a keep-out zone whose centre and radius
-are parameters).
+target; or an arrow's tip: a velocity); the shapes whose centres drag as handles are in
+`shapes.py`.
 
 A coordinate of the display frame is either fixed (a number, metres) or an `Axis`: an
 affine function of one parameter, display metres = offset + scale × value (× a view option,
@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import Protocol
 
 from .problem import Param
 
@@ -61,7 +62,7 @@ def as_axis(c: Coordinate) -> Axis | None:
     return Axis(c) if isinstance(c, str) else None
 
 
-def _where(c: Coordinate, values: Mapping[str, float], view: Mapping[str, float]) -> float:
+def coordinate(c: Coordinate, values: Mapping[str, float], view: Mapping[str, float]) -> float:
     axis = as_axis(c)
     return float(c) if axis is None else axis.where(values, view)  # type: ignore[arg-type]
 
@@ -100,7 +101,7 @@ class Handle:
 
     def where(self, values: Mapping[str, float], view: Mapping[str, float]) -> tuple[float, ...]:
         """Display-frame position (metres) for these values and view options."""
-        return tuple(_where(c, values, view) for c in self.position)
+        return tuple(coordinate(c, values, view) for c in self.position)
 
     @property
     def is_arrow(self) -> bool:
@@ -112,26 +113,6 @@ class Handle:
         """Where an arrow starts (metres): every bound value at zero."""
         return tuple(float(c) if axis is None else axis.tail(values)  # type: ignore[arg-type]
                      for c, axis in zip(self.position, self.axes, strict=True))
-
-
-@dataclass(frozen=True)
-class Sphere:
-    """A sphere drawn in the display frame (a keep-out zone): centre coordinates and radius
-    are numbers or parameters (metres); a centre bound to parameters drags like a handle."""
-
-    key: str
-    label: str
-    center: tuple[Coordinate, Coordinate, Coordinate]
-    radius: Coordinate
-    views: Mapping[str, float] = field(default_factory=dict)
-
-    @property
-    def handle(self) -> Handle:
-        """The centre as a handle (what drags the sphere)."""
-        return Handle(self.key, self.label, self.center, self.views)
-
-    def size(self, values: Mapping[str, float], view: Mapping[str, float]) -> float:
-        return _where(self.radius, values, view)
 
 
 @dataclass(frozen=True)
@@ -165,10 +146,22 @@ def values_at(handle: Handle, position: Sequence[float], params: Sequence[Param]
     return Moved(values, tuple(held))
 
 
-def check_bindings(handles: Sequence[Handle], params: Sequence[Param],
+class Bound(Protocol):
+    """What binds parameters: a `Handle`, or a shape (its centre and sizes)."""
+
+    key: str
+
+    @property
+    def axes(self) -> tuple[Axis | None, ...]: ...
+
+    @property
+    def views(self) -> Mapping[str, float]: ...
+
+
+def check_bindings(handles: Sequence[Bound], params: Sequence[Param],
                    view_params: Sequence[Param]) -> None:
-    """Raise `ValueError` naming a handle bound to an unknown parameter or view option, or
-    to a choice (a choice is no length)."""
+    """Raise `ValueError` naming a handle or shape bound to an unknown parameter or view
+    option, or to a choice (a choice is no length)."""
     by_key = {p.key: p for p in params}
     views = {p.key for p in view_params}
     for h in handles:

@@ -30,12 +30,13 @@ from .context import (
     SolveContext,
     TimeLimit,
 )
-from .handles import Handle, Sphere
+from .handles import Handle
 from .optimality import too_few_nodes
 from .presentation import Presentation
 from .problem import Consistency, Method, Param, Preset, Published, validate_values
 from .problem_module import adopt
 from .refine import solve_auto
+from .shapes import Shape
 from .solution import Label, Quantity, Solution, WarmStart
 from .transcription import Transcription, direct_transcription
 from .verify import repropagate
@@ -76,7 +77,7 @@ class Mission:
     cold_seconds: float = 0.0
     labels: Mapping[str, Label] = {}  # screen names of states, controls and check entries
     handles: tuple[Handle, ...] = ()  # points dragged in the 3D view, bound to params
-    shapes: tuple[Sphere, ...] = ()  # obstacles drawn in the 3D view, bound to params
+    shapes: tuple[Shape, ...] = ()  # obstacles and surfaces drawn in the 3D view
 
     def __init_subclass__(cls, records: ModuleType | None = None, **kwargs: Any) -> None:
         """`class M(Mission, records=problem)` takes the records (`PARAMS` -> `params`, ...)

@@ -13,8 +13,10 @@ A mission file defines `MISSION` like this (`python -m solvers solve my-problem
 describes every field.
 """
 
+from ..handles import Axis, Handle
 from ..methods import HERMITE_SIMPSON, LGL, MULTIPLE_SHOOTING
 from ..problem import Consistency, Param, Preset, Published
+from ..shapes import Box, Cone, Cylinder, Plane, Sphere
 from .errors import DeclarationError
 from .mission import UserMission
 from .records import Control, FinalConstraint, FreeTime, Named, PathConstraint, State
@@ -23,16 +25,23 @@ __all__ = [
     "HERMITE_SIMPSON",
     "LGL",
     "MULTIPLE_SHOOTING",
+    "Axis",
+    "Box",
+    "Cone",
     "Consistency",
     "Control",
+    "Cylinder",
     "DeclarationError",
     "FinalConstraint",
     "FreeTime",
+    "Handle",
     "Named",
     "Param",
     "PathConstraint",
+    "Plane",
     "Preset",
     "Published",
+    "Sphere",
     "State",
     "UserMission",
 ]

@@ -15,17 +15,19 @@ from typing import Any
 import numpy as np
 
 from ..context import Infeasible, SolveContext
-from ..handles import Handle, Sphere, check_bindings
+from ..handles import Handle, check_bindings
 from ..methods import HERMITE_SIMPSON, LGL, MULTIPLE_SHOOTING
 from ..mission import Mission
 from ..ocp import OCP, OCPResult
 from ..presentation import Presentation
 from ..problem import Consistency, Method, Param, Preset, Published
+from ..shapes import Shape
 from ..solution import Quantity, Solution
 from . import view
 from .build import build_ocp, guess_controls, guess_states, parameter_vector
 from .declaration import Declaration, check, resolve
 from .errors import DeclarationError, caller_location, function_location
+from .fixed_ends import broken_at_fixed_end, state_only_rows
 from .functions import check_finite, trace
 from .misses import check_names, final_misses, screen_labels
 from .records import Control, FinalConstraint, FreeTime, PathConstraint, State
@@ -93,7 +95,7 @@ class UserMission(Mission):
         presets: tuple[Preset, ...] = (),
         equations: tuple[tuple[str, str], ...] = (),
         handles: tuple[Handle, ...] = (),
-        shapes: tuple[Sphere, ...] = (),
+        shapes: tuple[Shape, ...] = (),
     ) -> None:
         where = caller_location()
         self.declaration = Declaration(
@@ -114,6 +116,7 @@ class UserMission(Mission):
         self._check_records(where)
         check(self.declaration)
         self._traced = trace(self.declaration)
+        self._state_rows = state_only_rows(self.declaration, self._traced)
         decl, values = self.declaration, self.declaration.defaults
         check_finite(self._traced, decl, *guess_states(decl, values),
                      guess_controls(decl, values)[0], parameter_vector(decl, values))
@@ -134,7 +137,7 @@ class UserMission(Mission):
                 raise DeclarationError(f"method '{m.key}' is not a general method (use "
                                        "HERMITE_SIMPSON, LGL or MULTIPLE_SHOOTING)", where)
         try:
-            check_bindings((*self.handles, *(s.handle for s in self.shapes)), self.params, ())
+            check_bindings((*self.handles, *self.shapes), self.params, ())
         except ValueError as exc:
             raise DeclarationError(str(exc), where) from None
 
@@ -155,8 +158,9 @@ class UserMission(Mission):
         return super().solve_direct(values, method, nodes, backend, warm, ctx)
 
     def precheck(self, values: dict[str, float], p: np.ndarray) -> None:
-        """Parameter values that put a fixed initial or final state outside its bounds, or
-        make a fixed final time non-positive, are refused before any solve."""
+        """Parameter values that put a fixed initial or final state outside its bounds, make
+        a fixed final time non-positive, or break a path constraint of the states at a fixed
+        end (a start outside a glide-slope cone) are refused before any solve."""
         decl = self.declaration
         for s in decl.states:
             lo, hi = (resolve(b, values) for b in s.bounds)
@@ -168,6 +172,9 @@ class UserMission(Mission):
         ft = decl.final_time
         if not isinstance(ft, FreeTime) and not resolve(ft, values) > 0:
             raise Infeasible(f"the final time must be positive, not {resolve(ft, values):g} s")
+        broken = broken_at_fixed_end(decl, self._traced, self._state_rows, values, p)
+        if broken is not None:
+            raise Infeasible(broken)
 
     def record(self, sol: Solution, res: OCPResult, p: np.ndarray) -> None:
         """The cost as declared (a maximised value itself, not the NLP's negative), the final

@@ -280,6 +280,31 @@ def test_parameter_values_outside_a_bound_are_refused_before_solving(tmp_path):
     assert "final x = 15 m is outside its bounds [-10, 10]" in sol.message
 
 
+def test_a_path_constraint_broken_at_the_fixed_start_is_infeasible_before_solving():
+    """x(0) = 0 fixed and x ≥ gap at every node: no control can help, so the case is refused
+    naming the constraint; a constraint that reads the control (x + a² ≥ gap) may be met by a
+    control at the start and is left to the solver; gap ≤ 0 solves."""
+    from solvers.userproblem import Param, PathConstraint
+
+    def declare(fn):
+        return UserMission(
+            key="fixed-start", title="t", params=(Param("gap", "gap", "m", -1.0, -2.0, 2.0, 0.1),),
+            states=(State("x", "m", bounds=(-5, 5), initial=0.0, final=1.0),
+                    State("v", "m/s", bounds=(-5, 5), initial=0.0, final=0.0)),
+            controls=(Control("a", "m/s²", bounds=(-10, 10)),),
+            dynamics=lambda x, u, p: [x.v, u.a], lagrange=lambda x, u, p: 0.5 * u.a**2,
+            final_time=1.0, path=(PathConstraint("floor", fn, lower=0.0, unit="m"),))
+
+    states_only = declare(lambda x, u, p: x.x - p.gap)
+    refused = states_only.solve({"gap": 0.5})
+    assert refused.status == "infeasible"
+    assert "path constraint 'floor' is -0.5 m at the fixed start; it must be ≥ 0 m" in \
+        refused.message
+    assert states_only.solve({"gap": -0.5}).ok
+    with_control = declare(lambda x, u, p: x.x + u.a**2 - p.gap).solve({"gap": 0.5})
+    assert "fixed start" not in with_control.message and with_control.converged
+
+
 def test_a_minimum_time_problem_with_free_final_time(tmp_path):
     mission = load_mission_file(_file(tmp_path, GOOD))
     for method in ("hermite-simpson", "lgl"):

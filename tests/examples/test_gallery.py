@@ -121,3 +121,24 @@ def test_the_obstacle_field_goes_round_every_obstacle() -> None:
     default = solved(name, "hermite-simpson")
     moved = m.solve({"o2_y": -1.5}, "hermite-simpson", warm=default)
     assert moved.converged and moved.cost.value != pytest.approx(default.cost.value, rel=1e-3)
+
+
+def test_the_glide_slope_landing_rides_its_cone_and_a_start_outside_it_is_infeasible() -> None:
+    """At the default 40° slope the unconstrained least-energy landing (analytic, 21° at its
+    shallowest) would pass under the cone: the optimum keeps z ≥ tan γ |x − x_t| at every
+    node, rides the surface on an arc and costs more than the analytic cubic. A target moved
+    so that the fixed start is below the slope has no solution: `infeasible`, naming it."""
+    name = "glide_slope_landing.py"
+    m = mission(name)
+    free = m.published[0].value  # the analytic optimum with the slope flat
+    for method in ("hermite-simpson", "multiple-shooting"):
+        sol = solved(name, method)
+        assert sol.ok, f"{method}: {sol.message}"
+        x, z = sol.node_x[:, 0], sol.node_x[:, 1]
+        above = z - np.tan(sol.values["slope"]) * (np.hypot(x, 1.0) - 1.0)  # the file's ε
+        assert above.min() >= -1e-6, f"{method}: under the slope by {-above.min():.3g} m"
+        assert (above[z > 10.0] < 0.5).sum() >= 5, f"{method}: the cone is not active"
+        assert sol.cost.value > 1.01 * free
+    outside = m.solve({"target": 300.0}, method="hermite-simpson")
+    assert outside.status == "infeasible" and "'glide_slope'" in outside.message
+    assert "fixed start" in outside.message

@@ -22,7 +22,7 @@ PATIENCE = 120.0
 def test_every_missions_handles_bind_numeric_parameters():
     declared = {}
     for m in list_missions():
-        check_bindings((*m.handles, *(s.handle for s in m.shapes)), m.all_params(),
+        check_bindings((*m.handles, *m.shapes), m.all_params(),
                        m.view_params)
         declared[m.key] = {p for h in m.handles for p in h.params}
     assert declared["cw-rendezvous"] == {"x0", "y0", "z0", "vx0", "vy0", "vz0"}
@@ -159,8 +159,8 @@ def test_the_keep_out_sphere_drags_and_the_path_bends_around_it(live):
     mission = load_mission_file(EXAMPLES / "keep_out_rendezvous.py")
     view = live(mission)
     drawn = view.handles.drawn["keep-out"]
-    assert drawn.mesh.radius == pytest.approx(800.0) and tuple(drawn.gizmo.active_axes) == (
-        True, True, False)
+    assert drawn.mesh.scale == pytest.approx((800.0,) * 3) and tuple(
+        drawn.gizmo.active_axes) == (True, True, False)
     # Display axes are (along-track y, radial x): the centre moves into the corner the path
     # turns, to x = 100, y = -100 m.
     _drag(view, "keep-out", [(-50.0, 50.0, 0.0), (-100.0, 100.0, 0.0)])
@@ -173,6 +173,32 @@ def test_the_keep_out_sphere_drags_and_the_path_bends_around_it(live):
     assert (distance < 800.5).sum() >= 3  # and sliding along it: the constraint is active
     origin = np.hypot(sol.node_x[:, 0], sol.node_x[:, 1])
     assert origin[5:-5].min() > 820.0  # pushed out, past the old zone's surface
+
+
+def test_the_glide_slope_cone_is_drawn_at_its_angle_and_its_apex_drags_the_target(live):
+    """A mission file's cone (apex bound to the target, angle to the slope slider) and fixed
+    ground plane: the cone's rim is 1100 m / tan γ wide, the plane has no gizmo to grab but
+    shows; dragging the apex moves the target, the path's end and the cone with it; a
+    steeper slope narrows the cone."""
+    from solvers.mission_file import load_mission_file
+
+    view = live(load_mission_file(EXAMPLES / "glide_slope_landing.py"))
+    cone, ground = view.handles.drawn["cone"], view.handles.drawn["ground"]
+    scale = view.handles._scale
+    rim = 1100.0 / math.tan(view.session.values["slope"])
+    assert cone.mesh.scale == pytest.approx((scale * rim, scale * rim, scale * 1100.0))
+    assert tuple(cone.gizmo.active_axes) == (True, False, False) and cone.gizmo.visible
+    assert ground.mesh.visible and not ground.gizmo.visible
+    _drag(view, "cone", [(scale * 30.0, 0.0, 0.0), (scale * 60.0, 0.0, 0.0)])
+    assert view.session.values["target"] == pytest.approx(60.0)
+    sol = view.session.latest
+    assert sol.ok, sol.message
+    assert sol.node_x[-1, 0] == pytest.approx(60.0) and sol.values["target"] == 60.0
+    assert cone.mesh.position == pytest.approx((scale * 60.0, 0.0, 0.0))
+    view.session.set_value("slope", math.radians(43.0))
+    assert view.session.wait_idle(PATIENCE)
+    narrow = 1100.0 / math.tan(math.radians(43.0))
+    assert cone.mesh.scale[0] == pytest.approx(scale * narrow)
 
 
 def test_a_handles_label_is_short_values_in_display_units():
