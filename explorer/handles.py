@@ -23,7 +23,7 @@ import numpy as np
 import viser
 
 from solvers import palette
-from solvers.handles import Handle, values_at
+from solvers.handles import AnyHandle, values_at
 from solvers.presentation import Presentation
 from solvers.problem import Param
 from solvers.shapes import Shape
@@ -45,7 +45,7 @@ Report = Callable[[str, str], None]
 class _Drawn:
     """One handle on screen: its record, gizmo, label and (for a shape) its mesh."""
 
-    handle: Handle
+    handle: AnyHandle
     gizmo: viser.TransformControlsHandle
     label: viser.LabelHandle
     shape: Shape | None = None
@@ -61,7 +61,7 @@ class _Drawn:
         return self.in_hand and time.monotonic() - self.last_event < DRAG_IDLE
 
 
-def describe(handle: Handle, values: Mapping[str, float], params: Mapping[str, Param],
+def describe(handle: AnyHandle, values: Mapping[str, float], params: Mapping[str, Param],
              held: tuple[str, ...] = ()) -> str:
     """The short label beside a handle: its name and bound values in display units
     ("start point (2000, 0, 1500) m"; the parameters' names are on the sliders, and a long
@@ -178,7 +178,7 @@ class Handles:
             self._sync(request.solve.values)
 
     # ---- drawing -------------------------------------------------------------------------
-    def _add(self, handle: Handle, shape: Shape | None) -> _Drawn:
+    def _add(self, handle: AnyHandle, shape: Shape | None) -> _Drawn:
         name = f"{self.root}/handles/{handle.key}"
         gizmo = self.scene.add_transform_controls(
             name, scale=self._size, active_axes=handle.active_axes, disable_rotations=True,

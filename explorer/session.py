@@ -330,12 +330,9 @@ class Session:
             if request.refine:
                 self.nodes = sol.nodes  # the mesh the refinement settled on
         self._emit("on_result", request, sol)
+        request.answered.set()  # from now a newer request cancels this one's check at once
         if not (sol.converged and sol.has_trajectory) or self._stale(request) \
-                or request.superseded.is_set():
-            pending.discard()
-            return
-        request.answered.set()  # a newer request need not wait for this check
-        if request.superseded.is_set():  # it came in between: it cancels nothing now
+                or request.superseded.is_set():  # a newer one came in before
             pending.discard()
             return
         pending.check()

@@ -1,6 +1,7 @@
 """Things a person drags in the 3D view, bound to parameters: `Handle` (a point: a start, a
-target; or an arrow's tip: a velocity); the shapes whose centres drag as handles are in
-`shapes.py`.
+target; or an arrow's tip: a velocity) and `CurveHandle` (a point on a curve of one
+parameter: an arrow that turns with a flight-path angle); the shapes whose centres drag as
+handles are in `shapes.py`.
 
 A coordinate of the display frame is either fixed (a number, metres) or an `Axis`: an
 affine function of one parameter, display metres = offset + scale × value (× a view option,
@@ -13,9 +14,11 @@ parameters' ranges. Everything here is SI and pure numerics: the explorer draws 
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Protocol
+
+import numpy as np
 
 from .problem import Param
 
@@ -115,6 +118,74 @@ class Handle:
                      for c, axis in zip(self.position, self.axes, strict=True))
 
 
+Point = Callable[[float, Mapping[str, float], Mapping[str, float]], Sequence[float]]
+Tail = Callable[[Mapping[str, float], Mapping[str, float]], Sequence[float]]
+CURVE_SAMPLES = 241  # a curve handle's first look along its parameter's range
+
+
+@dataclass(frozen=True)
+class CurveHandle:
+    """A point that moves along a curve as one parameter changes, e.g. an arrow's tip that
+    turns with a flight-path angle: `point(value, values, view)` is its display position
+    (metres), `start(values, view)` an arrow's tail. Dragged, it takes the value whose point
+    is nearest the hand (a search over the parameter's range: the curve need not be
+    affine, nor invertible in closed form)."""
+
+    key: str
+    label: str
+    param: str
+    point: Point
+    active_axes: tuple[bool, bool, bool] = (True, True, False)
+    start: Tail | None = None
+    views: Mapping[str, float] = field(default_factory=dict)
+
+    @property
+    def axes(self) -> tuple[Axis | None, ...]:
+        return (Axis(self.param),)
+
+    @property
+    def params(self) -> tuple[str, ...]:
+        return (self.param,)
+
+    @property
+    def is_arrow(self) -> bool:
+        return self.start is not None
+
+    def shown_in(self, view: Mapping[str, float]) -> bool:
+        return all(view.get(k) == v for k, v in self.views.items())
+
+    def where(self, values: Mapping[str, float], view: Mapping[str, float]) -> tuple[float, ...]:
+        return tuple(float(c) for c in self.point(float(values[self.param]), values, view))
+
+    def tail(self, values: Mapping[str, float], view: Mapping[str, float]
+             ) -> tuple[float, ...]:
+        start = self.start(values, view) if self.start is not None else self.where(values, view)
+        return tuple(float(c) for c in start)
+
+    def value_at(self, position: Sequence[float], p: Param, values: Mapping[str, float],
+                 view: Mapping[str, float]) -> float:
+        """The value in [p.min, p.max] whose point is nearest `position` along the active
+        axes: the best of an even sampling, then a bounded search beside it."""
+        from scipy.optimize import minimize_scalar
+
+        mask = np.array(self.active_axes, bool)
+        target = np.asarray(position, float)[mask]
+
+        def gap(v: float) -> float:
+            return float(np.sum((np.asarray(self.point(v, values, view), float)[mask]
+                                 - target)**2))
+
+        grid = np.linspace(p.min, p.max, CURVE_SAMPLES)
+        i = int(np.argmin([gap(v) for v in grid]))
+        lo, hi = grid[max(i - 1, 0)], grid[min(i + 1, len(grid) - 1)]
+        best = minimize_scalar(gap, bounds=(lo, hi), method="bounded",
+                               options={"xatol": 1e-10 * (p.max - p.min)})
+        return float(best.x) if best.fun <= gap(grid[i]) else float(grid[i])
+
+
+AnyHandle = Handle | CurveHandle
+
+
 @dataclass(frozen=True)
 class Moved:
     """What a drag to a position asks for: the new values (SI, within the ranges) and the
@@ -124,14 +195,21 @@ class Moved:
     held: tuple[str, ...] = ()
 
 
-def values_at(handle: Handle, position: Sequence[float], params: Sequence[Param],
+def values_at(handle: AnyHandle, position: Sequence[float], params: Sequence[Param],
               view: Mapping[str, float], current: Mapping[str, float] | None = None) -> Moved:
     """The parameter values that put `handle` at display `position` (metres): each bound
     axis inverted, clamped to its parameter's [min, max] (as a slider stops at its ends),
-    whole numbers rounded. Locked axes are ignored; an arrow's tail comes from `current`."""
+    whole numbers rounded. Locked axes are ignored; an arrow's tail comes from `current`.
+    A curve handle takes its nearest point's value, held when that is a range's end."""
     by_key = {p.key: p for p in params}
     values: dict[str, float] = {}
     held: list[str] = []
+    if isinstance(handle, CurveHandle):
+        p = by_key[handle.param]
+        value = handle.value_at(position, p, current or {}, view)
+        value = float(round(value)) if p.integer else value
+        at_end = min(value - p.min, p.max - value) <= 1e-9 * (p.max - p.min)
+        return Moved({p.key: value}, (p.key,) if at_end else ())
     for axis, coordinate in zip(handle.axes, position, strict=True):
         if axis is None:
             continue

@@ -30,7 +30,7 @@ from .context import (
     SolveContext,
     TimeLimit,
 )
-from .handles import Handle
+from .handles import AnyHandle
 from .optimality import too_few_nodes
 from .presentation import Presentation
 from .problem import Consistency, Method, Param, Preset, Published, validate_values
@@ -76,7 +76,7 @@ class Mission:
     # whose first solve is slow by nature; a live session's cold limit allows for it.
     cold_seconds: float = 0.0
     labels: Mapping[str, Label] = {}  # screen names of states, controls and check entries
-    handles: tuple[Handle, ...] = ()  # points dragged in the 3D view, bound to params
+    handles: tuple[AnyHandle, ...] = ()  # points dragged in the 3D view, bound to params
     shapes: tuple[Shape, ...] = ()  # obstacles and surfaces drawn in the 3D view
 
     def __init_subclass__(cls, records: ModuleType | None = None, **kwargs: Any) -> None:

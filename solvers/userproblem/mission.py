@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 
 from ..context import Infeasible, SolveContext
-from ..handles import Handle, check_bindings
+from ..handles import AnyHandle, check_bindings
 from ..methods import HERMITE_SIMPSON, LGL, MULTIPLE_SHOOTING
 from ..mission import Mission
 from ..ocp import OCP, OCPResult
@@ -94,7 +94,7 @@ class UserMission(Mission):
         consistency: tuple[Consistency, ...] = (),
         presets: tuple[Preset, ...] = (),
         equations: tuple[tuple[str, str], ...] = (),
-        handles: tuple[Handle, ...] = (),
+        handles: tuple[AnyHandle, ...] = (),
         shapes: tuple[Shape, ...] = (),
     ) -> None:
         where = caller_location()

@@ -29,7 +29,7 @@ def test_every_missions_handles_bind_numeric_parameters():
     assert declared["hovercraft"] == {"x0", "y0", "xf", "yf", "vx0", "vy0", "vxf", "vyf"}
     assert declared["bang-bang"] == {"distance"}
     assert declared["lunar-landing"] == {"altitude0"}
-    assert declared["apollo-reentry"] == {"h0"}
+    assert declared["apollo-reentry"] == {"h0", "gamma0"}
     with pytest.raises(ValueError, match="'nope' is not a numeric parameter"):
         check_bindings((Handle("h", "h", ("nope", 0.0, 0.0)),), m.all_params(), ())
 
@@ -47,7 +47,7 @@ def test_a_position_inverts_to_values_locked_axes_ignored_and_clamped_at_the_ran
     assert not start.shown_in(view | {"view": 1})  # the inertial view turns the axes
     # The reentry's entry point: r = R + k h, k the altitude exaggeration (a view option).
     reentry = get_mission("apollo-reentry")
-    entry, = reentry.handles
+    entry = reentry.handles[0]
     r = entry.axes[0].offset + 20.0 * 100e3
     assert values_at(entry, (r, 5.0, 5.0), reentry.params,
                      {"exaggerate": 20.0}).values == {"h0": pytest.approx(100e3)}
@@ -151,6 +151,39 @@ def test_dragging_the_start_velocitys_tip_sets_the_velocity_and_a_new_optimum(li
     assert sol.converged, sol.message
     assert sol.node_x[0, 2:4] == pytest.approx([4.0, 1.0])
     assert np.allclose(drawn.shaft.points[0], [(0.0, 0.0, 0.0), (0.8, 0.2, 0.0)])
+
+
+def test_the_entry_angles_arrow_turns_with_the_drawn_path_and_sets_gamma0(live):
+    """Reentry: the entry direction is a curve handle (the drawn angle is not affine in γ
+    under the altitude exaggeration): its arrow lies along the drawn path's first step, and
+    its tip dragged upward (towards the local vertical) makes the entry shallower, clamped
+    at the range's end; the optimum starts at the new angle."""
+    reentry = get_mission("apollo-reentry")
+    arrow = next(h for h in reentry.handles if h.key == "entry_angle")
+    values, view = reentry.defaults(), reentry.view_defaults()
+    tip = values_at(arrow, arrow.where(values, view), reentry.params, view, values)
+    assert tip.values["gamma0"] == pytest.approx(values["gamma0"], abs=1e-8) and not tip.held
+
+    view_ = live(reentry)
+    drawn = view_.handles.drawn["entry_angle"]
+    assert drawn.shaft is not None
+    path = view_.geometry.points
+    step = path[min(3, len(path) - 1)] - path[0]
+    shaft = drawn.shaft.points[0][1] - drawn.shaft.points[0][0]
+    cosine = step @ shaft / np.linalg.norm(step) / np.linalg.norm(shaft)
+    assert cosine > math.cos(math.radians(3.0))  # along the drawn path's start
+    start = np.asarray(drawn.gizmo.position, float)
+    _drag(view_, "entry_angle", [tuple(start + (20.0, 0.0, 0.0)), tuple(start + (40.0, 0.0, 0.0))])
+    gamma = view_.session.values["gamma0"]
+    assert values["gamma0"] < gamma < 0.0  # shallower, still descending
+    sol = view_.session.latest
+    assert sol.converged, sol.message
+    assert sol.node_x[0, 1] == pytest.approx(gamma, abs=1e-9)
+    assert view_.controls.fields["gamma0"].slider.value == pytest.approx(
+        math.degrees(gamma), rel=1e-6)
+    _drag(view_, "entry_angle", [tuple(start + (3000.0, -600.0, 0.0))])
+    assert view_.session.values["gamma0"] == pytest.approx(math.radians(-1.0))  # range end
+    assert "end of range" in drawn.label.text
 
 
 def test_the_keep_out_sphere_drags_and_the_path_bends_around_it(live):

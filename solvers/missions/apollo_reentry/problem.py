@@ -4,13 +4,14 @@ published numbers, accuracy targets and presets; and the record of a solution in
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from functools import cache
 
 import casadi as ca
 import numpy as np
 
 from ...context import Infeasible
-from ...handles import Axis, Handle
+from ...handles import Axis, CurveHandle, Handle
 from ...nlp.cache import built_once
 from ...ocp import OCP, Bounds, Guess, OCPResult
 from ...problem import Consistency, Param, Preset, Published
@@ -74,11 +75,34 @@ VIEW_PARAMS = (
                "stands off the Earth."),
 )
 
-# Dragged in the 3D view: the entry point moves along the local vertical (Earth-centred,
-# entry on +x at R_EARTH + exaggeration × altitude).
+ENTRY_ARROW = 350e3  # m: the drawn length of the entry direction's arrow (display frame)
+
+
+def _entry_point(values: Mapping[str, float], view: Mapping[str, float]) -> tuple[float, ...]:
+    """The entry in the display frame: on +x at R_EARTH + exaggeration × altitude."""
+    return model.R_EARTH + float(view["exaggerate"]) * float(values["h0"]), 0.0, 0.0
+
+
+def _entry_direction_tip(gamma: float, values: Mapping[str, float],
+                         view: Mapping[str, float]) -> tuple[float, ...]:
+    """The tip of the entry direction as drawn: the flight-path angle γ steepened by the
+    altitude exaggeration k, tan γ_drawn = k (R + h) tan γ / (R + k h) (`view.force_arrows`),
+    downrange along +y."""
+    k, h = float(view["exaggerate"]), float(values["h0"])
+    drawn = np.arctan2(k * (model.R_EARTH + h) * np.sin(gamma),
+                       (model.R_EARTH + k * h) * np.cos(gamma))
+    x, y, z = _entry_point(values, view)
+    return x + ENTRY_ARROW * float(np.sin(drawn)), y + ENTRY_ARROW * float(np.cos(drawn)), z
+
+
+# Dragged in the 3D view: the entry point moves along the local vertical; the tip of the entry
+# direction turns about it with the flight-path angle (a curve handle: the drawn angle is
+# not affine in γ).
 HANDLES = (
     Handle("entry", "entry altitude",
            (Axis("h0", offset=model.R_EARTH, view="exaggerate"), 0.0, 0.0)),
+    CurveHandle("entry_angle", "entry flight-path angle", "gamma0", _entry_direction_tip,
+                start=_entry_point),
 )
 
 _EXAMPLE_2 = "paper 004, example 2"
