@@ -30,7 +30,7 @@ from solvers.shapes import Shape
 
 from .geometry import MERGE_LABELS, Geometry, steady
 from .panels.setup import Controls
-from .panels.value_input import display_unit, to_display
+from .panels.value_input import display_unit, shown_text, to_display
 from .requests import Request
 from .session import Session
 
@@ -65,10 +65,14 @@ def describe(handle: AnyHandle, values: Mapping[str, float], params: Mapping[str
              held: tuple[str, ...] = ()) -> str:
     """The short label beside a handle: its name and bound values in display units
     ("start point (2000, 0, 1500) m"; the parameters' names are on the sliders, and a long
-    label would cover the path); a value held at the end of its range says so."""
+    label would cover the path); a date for a day count ("launch window opens 2022-05-28");
+    a value held at the end of its range says so."""
     shown = [(to_display(params[k], values[k]), display_unit(params[k])) for k in handle.params]
     units = {unit for _, unit in shown}
-    if len(units) == 1:
+    dated = [params[k] for k in handle.params if params[k].epoch is not None]
+    if len(handle.params) == 1 and dated:
+        text = f"{handle.label} {shown_text(dated[0], values[dated[0].key])}"
+    elif len(units) == 1:
         unit = units.pop()
         numbers = ", ".join(f"{v:.4g}" for v, _ in shown)
         text = f"{numbers}{' ' + unit if unit else ''}"

@@ -118,7 +118,7 @@ class Handle:
                      for c, axis in zip(self.position, self.axes, strict=True))
 
 
-Point = Callable[[float, Mapping[str, float], Mapping[str, float]], Sequence[float]]
+Point = Callable[[np.ndarray, Mapping[str, float], Mapping[str, float]], np.ndarray]
 Tail = Callable[[Mapping[str, float], Mapping[str, float]], Sequence[float]]
 CURVE_SAMPLES = 241  # a curve handle's first look along its parameter's range
 
@@ -126,10 +126,13 @@ CURVE_SAMPLES = 241  # a curve handle's first look along its parameter's range
 @dataclass(frozen=True)
 class CurveHandle:
     """A point that moves along a curve as one parameter changes, e.g. an arrow's tip that
-    turns with a flight-path angle: `point(value, values, view)` is its display position
-    (metres), `start(values, view)` an arrow's tail. Dragged, it takes the value whose point
+    turns with a flight-path angle: `point(v, values, view)` gives the display positions
+    (metres, shape (n, 3)) for an array `v` of the parameter's values, `start(values, view)`
+    an arrow's tail. Dragged, it takes the value whose point
     is nearest the hand (a search over the parameter's range: the curve need not be
-    affine, nor invertible in closed form)."""
+    affine, nor invertible in closed form). A curve that comes round again (an orbit, one
+    point per year) gives `span`: the search stays within ±span/2 of the current value, so
+    the hand moves the date along the orbit instead of jumping a year."""
 
     key: str
     label: str
@@ -137,6 +140,7 @@ class CurveHandle:
     point: Point
     active_axes: tuple[bool, bool, bool] = (True, True, False)
     start: Tail | None = None
+    span: float | None = None
     views: Mapping[str, float] = field(default_factory=dict)
 
     @property
@@ -154,8 +158,13 @@ class CurveHandle:
     def shown_in(self, view: Mapping[str, float]) -> bool:
         return all(view.get(k) == v for k, v in self.views.items())
 
+    def points(self, v: np.ndarray, values: Mapping[str, float], view: Mapping[str, float]
+               ) -> np.ndarray:
+        return np.asarray(self.point(np.asarray(v, float), values, view), float).reshape(-1, 3)
+
     def where(self, values: Mapping[str, float], view: Mapping[str, float]) -> tuple[float, ...]:
-        return tuple(float(c) for c in self.point(float(values[self.param]), values, view))
+        a, b, c = self.points(np.array([float(values[self.param])]), values, view)[0]
+        return float(a), float(b), float(c)
 
     def tail(self, values: Mapping[str, float], view: Mapping[str, float]
              ) -> tuple[float, ...]:
@@ -171,12 +180,18 @@ class CurveHandle:
         mask = np.array(self.active_axes, bool)
         target = np.asarray(position, float)[mask]
 
-        def gap(v: float) -> float:
-            return float(np.sum((np.asarray(self.point(v, values, view), float)[mask]
-                                 - target)**2))
+        def gaps(v: np.ndarray) -> np.ndarray:
+            return np.sum((self.points(v, values, view)[:, mask] - target)**2, axis=1)
 
-        grid = np.linspace(p.min, p.max, CURVE_SAMPLES)
-        i = int(np.argmin([gap(v) for v in grid]))
+        def gap(v: float) -> float:
+            return float(gaps(np.array([v]))[0])
+
+        lo, hi = p.min, p.max
+        if self.span is not None and self.param in values:
+            now = float(values[self.param])
+            lo, hi = max(lo, now - 0.5 * self.span), min(hi, now + 0.5 * self.span)
+        grid = np.linspace(lo, hi, CURVE_SAMPLES)
+        i = int(np.argmin(gaps(grid)))
         lo, hi = grid[max(i - 1, 0)], grid[min(i + 1, len(grid) - 1)]
         best = minimize_scalar(gap, bounds=(lo, hi), method="bounded",
                                options={"xatol": 1e-10 * (p.max - p.min)})
@@ -208,7 +223,7 @@ def values_at(handle: AnyHandle, position: Sequence[float], params: Sequence[Par
         p = by_key[handle.param]
         value = handle.value_at(position, p, current or {}, view)
         value = float(round(value)) if p.integer else value
-        at_end = min(value - p.min, p.max - value) <= 1e-9 * (p.max - p.min)
+        at_end = min(value - p.min, p.max - value) <= 1e-9 * (p.max - p.min)  # not the span's
         return Moved({p.key: value}, (p.key,) if at_end else ())
     for axis, coordinate in zip(handle.axes, position, strict=True):
         if axis is None:

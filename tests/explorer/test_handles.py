@@ -186,6 +186,31 @@ def test_the_entry_angles_arrow_turns_with_the_drawn_path_and_sets_gamma0(live):
     assert "end of range" in drawn.label.text
 
 
+def test_the_launch_window_ends_drag_along_earths_orbit():
+    """Asteroid: each end of the launch window is a point on Earth's orbit at its date
+    (ERFA's ephemeris, heliocentric ecliptic); dragged to where Earth is on another date, it
+    takes that date, searching a year either side of the current one, so a point of the
+    orbit a year on is the nearer date, not the first one the orbit passes; the label gives
+    the date."""
+    from solvers.dynamics.ephemeris import MJD_2022, earth_state
+
+    from explorer.handles import describe
+
+    asteroid = get_mission("asteroid-rendezvous")
+    opens = next(h for h in asteroid.handles if h.key == "window_opens")
+    values, view = asteroid.defaults(), asteroid.view_defaults()
+    earth, _ = earth_state(MJD_2022 + 100.0)
+    assert opens.where(values | {"launch_start": 100.0}, view) == pytest.approx(tuple(earth))
+    moved = values_at(opens, earth, asteroid.params, view, values | {"launch_start": 80.0})
+    assert moved.values["launch_start"] == pytest.approx(100.0, abs=1e-4) and not moved.held
+    a_year_on = values_at(opens, earth, asteroid.params, view,
+                          values | {"launch_start": 450.0})  # Earth is there again ~465.25
+    assert a_year_on.values["launch_start"] == pytest.approx(465.25, abs=0.5)
+    params = {p.key: p for p in asteroid.all_params(asteroid.methods[0].key)}
+    assert describe(opens, values | {"launch_start": 147.0}, params) == \
+        "launch window opens 2022-05-28"
+
+
 def test_the_keep_out_sphere_drags_and_the_path_bends_around_it(live):
     from solvers.mission_file import load_mission_file
 

@@ -83,8 +83,8 @@ def _entry_point(values: Mapping[str, float], view: Mapping[str, float]) -> tupl
     return model.R_EARTH + float(view["exaggerate"]) * float(values["h0"]), 0.0, 0.0
 
 
-def _entry_direction_tip(gamma: float, values: Mapping[str, float],
-                         view: Mapping[str, float]) -> tuple[float, ...]:
+def _entry_direction_tip(gamma: np.ndarray, values: Mapping[str, float],
+                         view: Mapping[str, float]) -> np.ndarray:
     """The tip of the entry direction as drawn: the flight-path angle γ steepened by the
     altitude exaggeration k, tan γ_drawn = k (R + h) tan γ / (R + k h) (`view.force_arrows`),
     downrange along +y."""
@@ -92,7 +92,8 @@ def _entry_direction_tip(gamma: float, values: Mapping[str, float],
     drawn = np.arctan2(k * (model.R_EARTH + h) * np.sin(gamma),
                        (model.R_EARTH + k * h) * np.cos(gamma))
     x, y, z = _entry_point(values, view)
-    return x + ENTRY_ARROW * float(np.sin(drawn)), y + ENTRY_ARROW * float(np.cos(drawn)), z
+    return np.column_stack([x + ENTRY_ARROW * np.sin(drawn), y + ENTRY_ARROW * np.cos(drawn),
+                            np.full_like(drawn, z)])
 
 
 # Dragged in the 3D view: the entry point moves along the local vertical; the tip of the entry

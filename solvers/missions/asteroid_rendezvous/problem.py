@@ -9,12 +9,14 @@ window ("day 147" is 2022-05-28). Inside the OCP everything is canonical (AU, TU
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from functools import cache
 
 import casadi as ca
 import numpy as np
 
-from ...dynamics.ephemeris import DAY, ELEMENT_SETS, MJD_2022, TU, VU
+from ...dynamics.ephemeris import DAY, ELEMENT_SETS, MJD_2022, TU, VU, earth_state
+from ...handles import CurveHandle
 from ...ocp import OCP, BoundaryPoint, Bounds, Guess
 from ...problem import Consistency, Param, Preset, Published
 from ...solution import Label
@@ -101,6 +103,25 @@ PRESETS = (
            note="The 120 mN engine cannot make the 7.8° plane change in 700 d: no "
                 "trajectory is found (no bound proves it impossible)."),
     Preset("Element set A (Horizons 2017)", {"elements": 1}),
+)
+
+YEAR_DAYS = 365.25
+
+
+def _earth_on(days: np.ndarray, values: Mapping[str, float], view: Mapping[str, float]
+              ) -> np.ndarray:
+    """Earth's heliocentric ecliptic positions (m) on `days` (from 2022-01-01)."""
+    positions, _ = earth_state(MJD_2022 + days)
+    return positions
+
+
+# Dragged in the 3D view: each end of the launch window is a point on Earth's orbit (a
+# date: moved along the orbit, a year's search either side of the current date).
+HANDLES = (
+    CurveHandle("window_opens", "launch window opens", "launch_start", _earth_on,
+                span=YEAR_DAYS),
+    CurveHandle("window_closes", "launch window closes", "launch_end", _earth_on,
+                span=YEAR_DAYS),
 )
 
 _SECTION_4 = "paper 003 §4"
