@@ -232,6 +232,9 @@ def main(argv: list[str] | None = None) -> None:
                         help="the classroom mode: one teacher, --sessions followers")
     parser.add_argument("--explore", type=int, default=0,
                         help="with --presenter: followers that explore on their own")
+    parser.add_argument("--scheduler", metavar="tcp://HOST:PORT|local",
+                        help="solve on this dask cluster instead of the solve service "
+                             "('local': a LocalCluster of --workers processes here)")
     args = parser.parse_args(argv)
 
     import viser
@@ -239,14 +242,25 @@ def main(argv: list[str] | None = None) -> None:
     from explorer.capture import free_port
     from solvers import get_mission, list_missions
 
-    runner, service = None, None
+    runner, service, cluster = None, None, None
+    if args.scheduler:
+        from dask.distributed import LocalCluster
+
+        from explorer.runners import ClusterRunner
+        from solvers.cluster import connect
+
+        if args.scheduler == "local":
+            cluster = LocalCluster(n_workers=args.workers or 2, threads_per_worker=1,
+                                   processes=True, dashboard_address=None)
+        runner = ClusterRunner(connect(cluster.scheduler_address if cluster else args.scheduler))
     try:
         from explorer.runners import ServiceRunner
         from solvers.service import SolveService
 
-        service = SolveService(args.workers, first_mission=SMALL[0])
-        service.wait_prebuilt()
-        runner = ServiceRunner(service)
+        if runner is None:
+            service = SolveService(args.workers, first_mission=SMALL[0])
+            service.wait_prebuilt()
+            runner = ServiceRunner(service)
     except ImportError:
         pass
     missions = list_missions()
@@ -256,6 +270,10 @@ def main(argv: list[str] | None = None) -> None:
         server.stop()
         if service is not None:
             service.close()
+        if args.scheduler:
+            runner.close()
+        if cluster is not None:
+            cluster.close()
         return
     views, clocks = [], defaultdict(list)
     started = time.perf_counter()

@@ -39,9 +39,15 @@ def main(argv: list[str] | None = None) -> None:
                              "repeatable; saving it reloads it in the running explorer")
     parser.add_argument("--workers", type=int,
                         help="solve processes (default: one per core); every solve runs in one")
+    parser.add_argument("--scheduler", metavar="tcp://HOST:PORT",
+                        help="solve on this dask.distributed cluster instead (a lecture hall "
+                             "beyond one machine; needs dask[distributed] here and on the "
+                             "workers, with this package installed)")
     args = parser.parse_args(argv)
     if args.workers is not None and args.workers < 1:
         parser.error("--workers must be at least 1")
+    if args.workers is not None and args.scheduler:
+        parser.error("--workers and --scheduler: the cluster's workers solve; choose one")
     if args.teacher_secret is not None and not args.classroom:
         parser.error("--teacher-secret needs --classroom")
     if args.teacher_secret is not None and not _url_safe(args.teacher_secret):
@@ -52,8 +58,9 @@ def main(argv: list[str] | None = None) -> None:
         app = ExplorerApp(args.host, args.port, args.mission, args.method, args.nodes,
                           shared=args.shared, time_limit=args.time_limit or None,
                           workers=args.workers, mission_files=tuple(args.mission_file),
-                          classroom=args.classroom, teacher_secret=args.teacher_secret)
-    except ValueError as exc:
+                          classroom=args.classroom, teacher_secret=args.teacher_secret,
+                          scheduler=args.scheduler)
+    except (ValueError, RuntimeError) as exc:
         parser.error(str(exc))
     if args.classroom:
         print(f"Trajectory explorer (classroom; Ctrl-C stops)\n"

@@ -13,13 +13,14 @@ from pathlib import Path
 import viser
 
 from solvers import list_missions
+from solvers.cluster import connect
 from solvers.mission import Mission
 from solvers.service import SolveService
 
 from .reload import MissionFiles
 from .room import Room
 from .room_view import RoomView
-from .runners import Runner, ServiceRunner
+from .runners import ClusterRunner, Runner, ServiceRunner
 from .session import DEFAULT_TIME_LIMIT, Session
 from .view import View
 from .view_drawing import apply_theme
@@ -36,9 +37,12 @@ class ExplorerApp:
                  time_limit: float | None = DEFAULT_TIME_LIMIT,
                  runner: Runner | None = None, workers: int | None = None,
                  prebuild: bool = True, mission_files: tuple[str, ...] = (),
-                 classroom: bool = False, teacher_secret: str | None = None) -> None:
+                 classroom: bool = False, teacher_secret: str | None = None,
+                 scheduler: str | None = None) -> None:
         """`workers` solve processes (default one per core) run every solve, unless a
-        `runner` is given (tests of missions that live only in the test). `mission_files`
+        `runner` is given (tests of missions that live only in the test) or a dask
+        `scheduler` address (every solve on that cluster: `RuntimeError` when it cannot be
+        reached). `mission_files`
         (files or folders) add users' missions, reloaded when saved. `classroom`: the
         presenter mode, driven from `teacher_url` (`teacher_secret`, default a random
         one)."""
@@ -56,6 +60,9 @@ class ExplorerApp:
             self.mission.method(method)  # raises ValueError naming the known methods
         self.method, self.nodes, self.time_limit = method, nodes, time_limit
         self.service: SolveService | None = None
+        self.cluster: ClusterRunner | None = None
+        if runner is None and scheduler:
+            runner = self.cluster = ClusterRunner(connect(scheduler), self.files.files)
         if runner is None:
             self.service = SolveService(workers, prebuild=prebuild,
                                         first_mission=self.mission.key,
@@ -174,3 +181,5 @@ class ExplorerApp:
         self.server.stop()
         if self.service is not None:
             self.service.close()
+        if self.cluster is not None:
+            self.cluster.close()

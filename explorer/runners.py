@@ -1,13 +1,14 @@
 """Who runs a session's solves: on the solve service's worker processes (`ServiceRunner`, the
-app) or in this process (`LocalRunner`, for tests with missions of their own). A runner blocks the
-session's own thread until the answer is there; the session's `Request.cancel` event stops a
-solve early, wherever it runs."""
+app), on a dask cluster (`ClusterRunner`, `--scheduler`: a lecture hall's exploring students
+beyond one machine) or in this process (`LocalRunner`, for tests with missions of their own).
+A runner blocks the session's own thread until the answer is there; the session's
+`Request.cancel` event stops a solve early, wherever it runs."""
 
 from __future__ import annotations
 
 import threading
 from collections.abc import Callable
-from typing import Protocol
+from typing import Any, Protocol
 
 from solvers.mission import Mission
 from solvers.request import SolveRequest
@@ -75,6 +76,14 @@ class LocalRunner:
 POLL_S = 0.02  # how often a waiting session looks at its cancel event
 
 
+def _cancelled(mission: Mission, r: SolveRequest) -> Solution:
+    """The answer a session gets for a solve it stopped waiting for."""
+    method = mission.method(r.method)
+    nodes = r.nodes if isinstance(r.nodes, int) else method.nodes[1]
+    return mission.empty(dict(r.values), method, nodes, r.backend or "", "cancelled",
+                         "cancelled by a newer request")
+
+
 class _ServicePending:
     def __init__(self, job: Job, mission: Mission, cancel: threading.Event) -> None:
         self.job, self.mission, self.cancel_event = job, mission, cancel
@@ -90,10 +99,7 @@ class _ServicePending:
 
     def result(self) -> Solution:
         if not self._wait(self.job.done):
-            r, method = self.job.request, self.mission.method(self.job.request.method)
-            nodes = r.nodes if isinstance(r.nodes, int) else method.nodes[1]
-            return self.mission.empty(dict(r.values), method, nodes, r.backend or "",
-                                      "cancelled", "cancelled by a newer request")
+            return _cancelled(self.mission, self.job.request)
         return self.job.result()
 
     def check(self) -> None:
@@ -123,3 +129,83 @@ class ServiceRunner:
 
     def forget(self, session: str) -> None:
         self.service.forget(session)
+
+
+class _ClusterPending:
+    """A solve on a dask cluster: the answer's future, then the deferred check run on the
+    worker that holds the answer (its check closure stays there), added to this copy."""
+
+    def __init__(self, client: Any, future: Any, mission: Mission, request: SolveRequest,
+                 cancel: threading.Event) -> None:
+        self.client, self.future, self.mission = client, future, mission
+        self.request, self.cancel_event = request, cancel
+        self._solution: Solution | None = None
+
+    def _wait(self, future: Any) -> Any:
+        """`future`'s result; None as soon as the request is cancelled (a remote
+        exception, e.g. the `ValueError` of bad input, is raised here)."""
+        while True:
+            try:
+                return future.result(timeout=POLL_S)
+            except TimeoutError:
+                if self.cancel_event.is_set():
+                    future.cancel()
+                    return None
+
+    def result(self) -> Solution:
+        sol = self._wait(self.future)
+        if sol is None:
+            return _cancelled(self.mission, self.request)
+        self._solution = sol
+        return sol
+
+    def check(self) -> None:
+        sol = self._solution
+        if sol is None:
+            return
+        from solvers.cluster import check_on_worker
+
+        holders = self.client.who_has(self.future).get(self.future.key, ())
+        checking = self.client.submit(check_on_worker, self.future, workers=list(holders),
+                                      allow_other_workers=False, pure=False)
+        try:
+            update = self._wait(checking)
+        except Exception as exc:  # the check failed on the worker: said, not fatal
+            sol.check["error"] = float("nan")
+            sol.message += f" (re-propagation check failed: {exc})"
+            sol.judge()
+            return
+        finally:
+            self.future.release()
+        if update is not None:
+            update.apply(sol)
+
+    def cancel(self) -> None:
+        self.cancel_event.set()
+        self.future.cancel()
+
+    def discard(self) -> None:
+        self.future.release()  # the worker frees the answer it kept for the check
+
+
+class ClusterRunner:
+    """Hands every solve to a dask.distributed cluster (`solvers.cluster`): where one
+    machine cannot solve for a lecture hall. A worker cannot be interrupted: a cancelled
+    solve runs on to its time limit there while the session goes on; following the
+    teacher costs nothing (the room shares the teacher's answers)."""
+
+    def __init__(self, client: Any, mission_files: tuple[str, ...] = ()) -> None:
+        self.client, self.mission_files = client, tuple(mission_files)
+
+    def start(self, mission: Mission, request: SolveRequest, *, warm: Solution | None,
+              session: str, cancel: threading.Event, progress: Progress | None) -> Pending:
+        from solvers.cluster import solve_on_worker
+
+        if progress is not None:
+            progress(0, "solving on the cluster")
+        future = self.client.submit(solve_on_worker, request, None if request.cold else warm,
+                                    self.mission_files, pure=False)
+        return _ClusterPending(self.client, future, mission, request, cancel)
+
+    def close(self) -> None:
+        self.client.close()

@@ -1,7 +1,7 @@
 """Grids and Monte-Carlo runs: mission solves on the solve service's worker processes, or on a
 `dask.distributed` cluster when given a scheduler address ("tcp://host:8786").
 
-dask is imported only then and is not a dependency (`pip install "dask[distributed]"` to use
+dask is imported only then (`solvers.cluster`; `pip install "dask[distributed]"` to use
 it); its work functions must be importable module-level functions (they are pickled to the
 workers), and the workers must have this package installed. Vectorised grids (`grid_rows`)
 run on a local process pool or the same cluster.
@@ -24,29 +24,17 @@ from typing import Any, TypedDict, Unpack
 
 import numpy as np
 
+from .cluster import connect
 from .registry import get_mission, list_missions, load_mission_files
 from .request import SolveRequest
 from .service import SolveService
-
-SCHEDULER_TIMEOUT = "5s"  # an unreachable scheduler is reported after this
 
 
 @contextmanager
 def executor(scheduler: str | None = None, workers: int | None = None) -> Iterator[Executor]:
     """A process pool (default: one worker per core) or a dask cluster's executor."""
     if scheduler:
-        try:
-            from dask.distributed import Client
-        except ImportError as exc:  # pragma: no cover - depends on the environment
-            raise RuntimeError(
-                'a scheduler address needs dask: pip install "dask[distributed]"'
-            ) from exc
-        try:
-            client = Client(scheduler, timeout=SCHEDULER_TIMEOUT)
-        except (OSError, TimeoutError) as exc:
-            raise RuntimeError(f"cannot reach the dask scheduler at {scheduler} within "
-                               f"{SCHEDULER_TIMEOUT} ({exc})") from None
-        with client:
+        with connect(scheduler) as client:
             yield client.get_executor()
         return
     with ProcessPoolExecutor(max_workers=workers or os.cpu_count() or 1) as pool:

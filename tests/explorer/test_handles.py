@@ -192,9 +192,8 @@ def test_the_launch_window_ends_drag_along_earths_orbit():
     takes that date, searching a year either side of the current one, so a point of the
     orbit a year on is the nearer date, not the first one the orbit passes; the label gives
     the date."""
-    from solvers.dynamics.ephemeris import MJD_2022, earth_state
-
     from explorer.handles import describe
+    from solvers.dynamics.ephemeris import MJD_2022, earth_state
 
     asteroid = get_mission("asteroid-rendezvous")
     opens = next(h for h in asteroid.handles if h.key == "window_opens")
