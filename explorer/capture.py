@@ -14,9 +14,10 @@ import shutil
 import socket
 import tempfile
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from playwright.sync_api import BrowserContext, Page, sync_playwright
@@ -36,6 +37,52 @@ LAUNCH_ARGS = [
 # thread (about 100 ms per frame at 1280x800 here), a cost no real browser pays.
 GPU_PROCESS_ARGS = [a for a in LAUNCH_ARGS if a != "--disable-gpu"] + [
     "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--ignore-gpu-blocklist"]
+
+
+def settled_pose(camera: object, still: float = 1.5, patience: float = 120.0
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """(position, look_at, up, vertical fov) of a client's camera (`viser.CameraHandle`) as
+    its browser last reported it, once unchanged for `still` s (a new framing animates)."""
+
+    def pose() -> tuple:
+        c: Any = camera
+        return (tuple(np.round(c.position, 9)), tuple(np.round(c.look_at, 9)),
+                tuple(c.up_direction), float(c.fov))
+
+    last, since = pose(), time.monotonic()
+    deadline = since + patience
+    while time.monotonic() - since < still:
+        if time.monotonic() > deadline:
+            raise TimeoutError("the camera did not settle")
+        time.sleep(0.05)
+        now = pose()
+        if now != last:
+            last, since = now, time.monotonic()
+    position, look_at, up, fov = last
+    return np.array(position), np.array(look_at), np.array(up), fov
+
+
+def projector(page: Page, position: np.ndarray, look_at: np.ndarray, up: np.ndarray,
+              fov: float) -> Callable[[np.ndarray], tuple[float, float]]:
+    """A function from a world point to page pixels for a camera pose (three.js
+    perspective: vertical `fov`, the canvas's aspect): where a mouse grabs a gizmo."""
+    box = page.locator("canvas").first.bounding_box()
+    assert box is not None, "the page has no canvas"
+    back = np.asarray(position, float) - np.asarray(look_at, float)
+    back /= np.linalg.norm(back)
+    right = np.cross(up, back)
+    right /= np.linalg.norm(right)
+    true_up = np.cross(back, right)
+    tan = np.tan(fov / 2)
+    aspect = box["width"] / box["height"]
+
+    def project(point: np.ndarray) -> tuple[float, float]:
+        d = np.asarray(point, float) - position
+        depth = -float(d @ back)
+        x, y = float(d @ right) / depth / (tan * aspect), float(d @ true_up) / depth / tan
+        return (box["x"] + (x + 1) / 2 * box["width"], box["y"] + (1 - y) / 2 * box["height"])
+
+    return project
 
 
 def free_port() -> int:

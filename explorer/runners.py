@@ -131,6 +131,11 @@ class ServiceRunner:
         self.service.forget(session)
 
 
+# A worker runs a waiting solve before a waiting check (as the solve service does): a check
+# only refines what is already on screen.
+SOLVE_PRIORITY, CHECK_PRIORITY = 10, 0
+
+
 class _ClusterPending:
     """A solve on a dask cluster: the answer's future, then the deferred check run on the
     worker that holds the answer (its check closure stays there), added to this copy."""
@@ -143,14 +148,14 @@ class _ClusterPending:
 
     def _wait(self, future: Any) -> Any:
         """`future`'s result; None as soon as the request is cancelled (a remote
-        exception, e.g. the `ValueError` of bad input, is raised here)."""
-        while True:
-            try:
-                return future.result(timeout=POLL_S)
-            except TimeoutError:
-                if self.cancel_event.is_set():
-                    future.cancel()
-                    return None
+        exception, e.g. the `ValueError` of bad input, is raised here). It polls `done()`:
+        `result(timeout=...)` of distributed 2026.8 may raise `UnboundLocalError` when its
+        timeout expires, which a loaded room met on most solves."""
+        while not future.done():
+            if self.cancel_event.wait(POLL_S):
+                future.cancel()
+                return None
+        return future.result()
 
     def result(self) -> Solution:
         sol = self._wait(self.future)
@@ -167,7 +172,8 @@ class _ClusterPending:
 
         holders = self.client.who_has(self.future).get(self.future.key, ())
         checking = self.client.submit(check_on_worker, self.future, workers=list(holders),
-                                      allow_other_workers=False, pure=False)
+                                      allow_other_workers=False, pure=False,
+                                      priority=CHECK_PRIORITY)
         try:
             update = self._wait(checking)
         except Exception as exc:  # the check failed on the worker: said, not fatal
@@ -204,7 +210,7 @@ class ClusterRunner:
         if progress is not None:
             progress(0, "solving on the cluster")
         future = self.client.submit(solve_on_worker, request, None if request.cold else warm,
-                                    self.mission_files, pure=False)
+                                    self.mission_files, pure=False, priority=SOLVE_PRIORITY)
         return _ClusterPending(self.client, future, mission, request, cancel)
 
     def close(self) -> None:

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from explorer.capture import CHROMIUM
+from explorer.capture import CHROMIUM, settled_pose
 
 WIDTH, HEIGHT = 1280, 800
 BROWSER = [
@@ -45,22 +45,7 @@ def settled_camera(view) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
     reported it, once unchanged for `STILL` s (the framing of a new solution is animated)."""
     clients = list(view.camera.clients.values())
     assert len(clients) == 1
-    camera = clients[0].camera
-
-    def pose() -> tuple:
-        return (tuple(np.round(camera.position, 9)), tuple(np.round(camera.look_at, 9)),
-                tuple(camera.up_direction), float(camera.fov))
-
-    last, since = pose(), time.monotonic()
-    deadline = since + PATIENCE
-    while time.monotonic() - since < STILL:
-        assert time.monotonic() < deadline, "the camera did not settle"
-        time.sleep(0.05)
-        now = pose()
-        if now != last:
-            last, since = now, time.monotonic()
-    position, look_at, up, fov = last
-    return np.array(position), np.array(look_at), np.array(up), fov
+    return settled_pose(clients[0].camera, STILL, PATIENCE)
 
 
 def slider_key(page, label: str, key: str, times: int = 1) -> None:

@@ -28,25 +28,10 @@ STEPS = 12  # mouse moves of one gesture
 
 
 def _projector(page, view):
-    """A function from a world point to page pixels, from the client's camera (three.js
-    perspective: vertical fov, the canvas's aspect)."""
-    position, look_at, up, fov = settled_camera(view)
-    box = page.locator("canvas").first.bounding_box()
-    back = position - look_at
-    back /= np.linalg.norm(back)
-    right = np.cross(up, back)
-    right /= np.linalg.norm(right)
-    true_up = np.cross(back, right)
-    tan = math.tan(fov / 2)
-    aspect = box["width"] / box["height"]
+    """A function from a world point to page pixels, from the client's settled camera."""
+    from explorer.capture import projector
 
-    def project(point: np.ndarray) -> tuple[float, float]:
-        d = np.asarray(point, float) - position
-        depth = -float(d @ back)
-        x, y = float(d @ right) / depth / (tan * aspect), float(d @ true_up) / depth / tan
-        return (box["x"] + (x + 1) / 2 * box["width"], box["y"] + (1 - y) / 2 * box["height"])
-
-    return project
+    return projector(page, *settled_camera(view))
 
 
 def _drag_arrow(page, view, key: str, axis: int, delta: float, tries: int = 3) -> None:
