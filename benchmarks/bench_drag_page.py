@@ -8,9 +8,11 @@ Debian chromium (software WebGL, 1280×800) on the explorer in-process with its 
 Per mission the mouse grabs the handle's gizmo arrow where the settled camera projects it,
 holds it and moves along the arrow at `--rate` moves a second for `--seconds` s (one steady
 sweep of one gizmo arm), then lets go. In the page a MutationObserver notes every new cost in
-the status line (`#explorer-status`): the new optima the page showed per second of the
-gesture. The floor: the same gesture on a bare `viser.ViserServer` whose transform control's
-`on_update` writes "floor N" (N counting its events): the new texts it showed per second.
+the status line (`#explorer-status`): the new optima the page showed per second, from the
+first move until the page caught up (a page behind the hand shows the gesture's optima
+long after it stopped: the lag column), and the drag events the server heard. The floor:
+the same gesture on a bare `viser.ViserServer` whose transform control's `on_update` writes
+"floor N" (N counting its events): the new texts it showed per second.
 """
 
 from __future__ import annotations
@@ -36,10 +38,12 @@ SHOWN = """(selector) => {
   new MutationObserver(note).observe(document.body,
                                      {subtree: true, childList: true, characterData: true});
 }"""
-# What counts as a new picture: the cost in the status (its second bold item), or the floor.
-COST = ("() => { const s = document.querySelector('#explorer-status');"
-        " const b = s ? s.querySelectorAll('strong') : []; return b.length > 1 ?"
-        " b[1].textContent : ''; }")
+# What counts as a new picture: the cost in the status (the bold item after the status word;
+# a "solving…" line above the previous result is skipped), or the floor's text.
+COST = ("() => { const s = document.querySelector('#explorer-status'); if (!s) return '';"
+        " let b = [...s.querySelectorAll('strong')].map((e) => e.textContent);"
+        " if (b.length && b[0].startsWith('solving')) b = b.slice(1);"
+        " return b.length > 1 ? b[1] : ''; }")
 FLOOR = ("() => { const p = [...document.querySelectorAll('p')].find("
          "(e) => /^floor \\d+$/.test(e.textContent)); return p ? p.textContent : ''; }")
 
@@ -70,10 +74,25 @@ def gesture(page, project, grab: np.ndarray, direction: np.ndarray, length: floa
     return first, last
 
 
-def shown_rate(page, first: float, last: float) -> float:
-    """New pictures per second the page showed between the first and the last move."""
-    times = [t for t, _ in page.evaluate("() => window.__shown") if first <= t <= last]
-    return len(times) / ((last - first) / 1e3)
+def shown_rate(page, first: float, last: float, settle_s: float = 3.0) -> tuple[float, float]:
+    """(new pictures per second the page showed from the first move until it caught up,
+    s from the last move to the last picture). A page whose main thread is behind shows the
+    gesture's pictures long after the hand stopped: the rate counts them all, over the time
+    they took, and the lag says how far behind it was. Caught up: no new picture for
+    `settle_s` s."""
+    def times() -> list[float]:
+        return [t for t, _ in page.evaluate("() => window.__shown") if t >= first]
+
+    seen, since = len(times()), time.monotonic()
+    while time.monotonic() - since < settle_s:
+        time.sleep(0.2)
+        if len(now := times()) != seen:
+            seen, since = len(now), time.monotonic()
+    shown = times()
+    if not shown:
+        return 0.0, float("nan")
+    span = max(shown[-1], last) - first
+    return len(shown) / (span / 1e3), (shown[-1] - last) / 1e3
 
 
 def floor_rate(context, seconds: float, rate: float) -> float:
@@ -106,16 +125,17 @@ def floor_rate(context, seconds: float, rate: float) -> float:
         watch(page, FLOOR)
         first, last = gesture(page, project, np.array([ARM, 0.0, 0.0]), np.eye(3)[0], 1.0,
                               seconds, rate)
-        shown = shown_rate(page, first, last)
+        shown, _ = shown_rate(page, first, last)
         page.close()
         return shown
     finally:
         server.stop()
 
 
-def explorer_rate(page, view, key: str, seconds: float, rate: float) -> tuple[float, float]:
-    """(optima shown per second in the page, drag events per second the server heard) for
-    a gesture on mission `key`'s handle."""
+def explorer_rate(page, view, key: str, seconds: float, rate: float
+                  ) -> tuple[float, float, float]:
+    """(optima shown per second in the page, its lag behind the hand in s, drag events the
+    server heard per second of the gesture) for a gesture on mission `key`'s handle."""
     from explorer.capture import projector, settle, settled_pose
     from solvers import get_mission
 
@@ -132,10 +152,10 @@ def explorer_rate(page, view, key: str, seconds: float, rate: float) -> tuple[fl
     moves = view.handles.moves
     first, last = gesture(page, project, grab, direction, float(drawn.gizmo.scale), seconds,
                           rate)
-    heard = (view.handles.moves - moves) / ((last - first) / 1e3)
-    shown = shown_rate(page, first, last)
+    shown, lag = shown_rate(page, first, last)
+    heard = (view.handles.moves - moves) / seconds
     view.session.wait_idle(120.0)
-    return shown, heard
+    return shown, lag, heard
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -158,11 +178,11 @@ def main(argv: list[str] | None = None) -> None:
             page, view = open_tab(app, context, 300.0)
             close_webgl_toast(page)
             print(f"{'mission':16s} {'method':18s} {'heard/s':>8s} {'shown/s':>8s} "
-                  f"{'÷ floor':>8s}")
+                  f"{'÷ floor':>8s} {'lag s':>6s}")
             for key in args.mission:
-                shown, heard = explorer_rate(page, view, key, args.seconds, args.rate)
+                shown, lag, heard = explorer_rate(page, view, key, args.seconds, args.rate)
                 print(f"{key:16s} {view.session.method:18s} {heard:8.1f} {shown:8.1f} "
-                      f"{shown / floor:8.2f}", flush=True)
+                      f"{shown / floor:8.2f} {lag:6.1f}", flush=True)
         finally:
             app.stop()
 
