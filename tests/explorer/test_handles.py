@@ -186,8 +186,8 @@ def test_the_entry_angles_arrow_turns_with_the_drawn_path_and_sets_gamma0(live):
     assert "end of range" in drawn.label.text
 
 
-def test_the_launch_window_ends_drag_along_earths_orbit():
-    """Asteroid: each end of the launch window is a point on Earth's orbit at its date
+def test_the_launch_windows_opening_drags_along_earths_orbit():
+    """Asteroid: the opening of the launch window is a point on Earth's orbit at its date
     (ERFA's ephemeris, heliocentric ecliptic); dragged to where Earth is on another date, it
     takes that date, searching a year either side of the current one, so a point of the
     orbit a year on is the nearer date, not the first one the orbit passes; the label gives

@@ -115,12 +115,12 @@ def _earth_on(days: np.ndarray, values: Mapping[str, float], view: Mapping[str, 
     return positions
 
 
-# Dragged in the 3D view: each end of the launch window is a point on Earth's orbit (a
-# date: moved along the orbit, a year's search either side of the current date).
+# Dragged in the 3D view: the opening of the launch window is a point on Earth's orbit (a
+# date: moved along the orbit, a year's search either side of the current date). Its
+# closing is not a handle: the paper's window is two whole years, so both ends sit at the
+# same point of the orbit and one gizmo would hide the other (its slider moves it).
 HANDLES = (
     CurveHandle("window_opens", "launch window opens", "launch_start", _earth_on,
-                span=YEAR_DAYS),
-    CurveHandle("window_closes", "launch window closes", "launch_end", _earth_on,
                 span=YEAR_DAYS),
 )
 
