@@ -115,6 +115,10 @@ class SolveService:
             with self._lock:
                 if w.job is not None and w.job.id == msg[1]:
                     w.acked = True
+        elif kind == "begin":  # the time limit counts from here (not from the hand-over)
+            with self._lock:
+                if w.job is not None and w.job.id == msg[1]:
+                    w.job.started = time.monotonic()
         elif kind == "progress":
             job = w.job
             if job is not None and job.id == msg[1] and job.progress is not None:

@@ -124,6 +124,11 @@ class Worker:
             self.current = (job_id, cancel)
             if job_id in self.dropped:
                 cancel.set()
+        if test_hook == "busy" and self.test_hooks:
+            self.misbehave(test_hook)
+        # Its time limit runs from now: a start-up build this worker was in (native, it
+        # cannot stop mid-way) is not the solve's time.
+        self.send(("begin", job_id))
         last = [0.0]
 
         def progress(iteration: int, text: str) -> None:
@@ -132,7 +137,7 @@ class Worker:
                 last[0] = now
                 self.send(("progress", job_id, iteration, text))
 
-        if test_hook and self.test_hooks:
+        if test_hook and test_hook != "busy" and self.test_hooks:
             self.misbehave(test_hook)
         try:
             sol = request.run(get_mission(request.mission), warm=warm, progress=progress,
@@ -196,8 +201,13 @@ class Worker:
 
     def misbehave(self, hook: str) -> None:
         """Test-only faults: hang in native code (SIGSTOP: nothing of the process runs, not
-        even its reader thread), die as from a segfault (SIGKILL), or sleep in C."""
-        if hook == "stop":
+        even its reader thread), die as from a segfault (SIGKILL), sleep in C, or be busy
+        for a second before the solve begins (as in a start-up build that cannot stop)."""
+        if hook == "busy":
+            import ctypes
+
+            ctypes.CDLL(None).sleep(1)
+        elif hook == "stop":
             os.kill(os.getpid(), signal.SIGSTOP)
         elif hook == "crash":
             os.kill(os.getpid(), signal.SIGKILL)

@@ -141,6 +141,23 @@ def test_a_solve_stuck_in_native_code_is_stopped_and_others_go_on(service, hook)
     assert service.submit(SolveRequest("hovercraft")).result(60.0).ok  # the next one solves
 
 
+def test_the_time_limit_runs_from_the_solves_start_not_from_its_hand_over(service):
+    """A worker still in a start-up build (native: it cannot stop mid-way) when a solve
+    arrives: the solve's time limit counts from when it begins (an Apollo first solve after
+    a mission switch was stopped at 15 s, having spent most of them waiting for a build)."""
+    _both_workers_solved(service, SolveRequest("lunar-landing", "hermite-simpson"))
+    job = service.submit(SolveRequest("lunar-landing", "hermite-simpson", time_limit=30.0),
+                         session="late", test_hook="busy")
+    deadline = time.monotonic() + 10.0
+    while job.started is None:
+        assert time.monotonic() < deadline
+        time.sleep(0.005)
+    handed_over = job.started
+    sol = job.result(60.0)
+    assert sol.ok, sol.message
+    assert job.started - handed_over >= 0.9  # the busy second is not counted
+
+
 def test_a_worker_killed_mid_solve_is_reported_and_replaced(service):
     job = service.submit(SolveRequest("lunar-landing", "hermite-simpson", time_limit=60.0),
                          session="victim", test_hook="hang")

@@ -11,6 +11,7 @@ import subprocess
 import sys
 
 import pytest
+from test_explorer import Recorder
 
 from solvers import get_mission
 
@@ -25,20 +26,6 @@ def scheduler():
         yield cluster.scheduler_address
 
 
-class _Heard:
-    def __init__(self) -> None:
-        self.results, self.checks, self.errors = [], [], []
-
-    def on_result(self, request, solution):
-        self.results.append(solution)
-
-    def on_check(self, request, solution):
-        self.checks.append(solution)
-
-    def on_error(self, request, message):
-        self.errors.append(message)
-
-
 def test_a_session_solves_on_the_cluster_and_hears_the_workers_check(scheduler):
     from explorer.runners import ClusterRunner
     from explorer.session import Session
@@ -47,7 +34,7 @@ def test_a_session_solves_on_the_cluster_and_hears_the_workers_check(scheduler):
     runner = ClusterRunner(connect(scheduler))
     mission = get_mission("bang-bang")
     session = Session(mission, auto=False, runner=runner, time_limit=60.0)
-    heard = _Heard()
+    heard = Recorder()
     session.listeners.append(heard)
     try:
         session.values["distance"] = 4.0
