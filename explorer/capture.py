@@ -39,15 +39,14 @@ GPU_PROCESS_ARGS = [a for a in LAUNCH_ARGS if a != "--disable-gpu"] + [
     "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--ignore-gpu-blocklist"]
 
 
-def settled_pose(camera: object, still: float = 1.5, patience: float = 120.0
+def settled_pose(camera: Any, still: float = 1.5, patience: float = 120.0
                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
     """(position, look_at, up, vertical fov) of a client's camera (`viser.CameraHandle`) as
     its browser last reported it, once unchanged for `still` s (a new framing animates)."""
 
     def pose() -> tuple:
-        c: Any = camera
-        return (tuple(np.round(c.position, 9)), tuple(np.round(c.look_at, 9)),
-                tuple(c.up_direction), float(c.fov))
+        return (tuple(np.round(camera.position, 9)), tuple(np.round(camera.look_at, 9)),
+                tuple(camera.up_direction), float(camera.fov))
 
     last, since = pose(), time.monotonic()
     deadline = since + patience

@@ -10,6 +10,7 @@ import threading
 from collections.abc import Callable
 from typing import Any, Protocol
 
+from solvers.cluster import check_on_worker, solve_on_worker
 from solvers.mission import Mission
 from solvers.request import SolveRequest
 from solvers.service import Job, SolveService
@@ -168,8 +169,6 @@ class _ClusterPending:
         sol = self._solution
         if sol is None:
             return
-        from solvers.cluster import check_on_worker
-
         holders = self.client.who_has(self.future).get(self.future.key, ())
         checking = self.client.submit(check_on_worker, self.future, workers=list(holders),
                                       allow_other_workers=False, pure=False,
@@ -205,8 +204,6 @@ class ClusterRunner:
 
     def start(self, mission: Mission, request: SolveRequest, *, warm: Solution | None,
               session: str, cancel: threading.Event, progress: Progress | None) -> Pending:
-        from solvers.cluster import solve_on_worker
-
         if progress is not None:
             progress(0, "solving on the cluster")
         future = self.client.submit(solve_on_worker, request, None if request.cold else warm,

@@ -14,6 +14,7 @@ from typing import Any
 
 from .registry import get_mission, list_missions, load_mission_files
 from .request import SolveRequest
+from .service.protocol import CheckUpdate
 from .solution import Solution
 
 SCHEDULER_TIMEOUT = "5s"  # an unreachable scheduler is reported after this
@@ -34,7 +35,9 @@ def connect(scheduler: str) -> Any:
                            f"{SCHEDULER_TIMEOUT} ({exc})") from None
 
 
-def _mission(key: str, mission_files: Sequence[str]) -> Any:
+def mission_for(key: str, mission_files: Sequence[str] = ()) -> Any:
+    """The mission `key` on a worker, loading `mission_files` first when it is not known
+    there (a mission declared in a file)."""
     if mission_files and key not in {m.key for m in list_missions()}:
         load_mission_files(list(mission_files))
     return get_mission(key)
@@ -44,14 +47,12 @@ def solve_on_worker(request: SolveRequest, warm: Solution | None,
                     mission_files: Sequence[str] = ()) -> Solution:
     """Solve `request` on a worker, its re-propagation check deferred (`check_on_worker`
     runs it on the worker holding this answer: the check's closure stays there)."""
-    return request.run(_mission(request.mission, mission_files), warm=warm, verify=False)
+    return request.run(mission_for(request.mission, mission_files), warm=warm, verify=False)
 
 
-def check_on_worker(sol: Solution) -> Any:
+def check_on_worker(sol: Solution) -> CheckUpdate:
     """Run the deferred check of an answer held in this worker's memory; what it adds
     (`CheckUpdate`), for the caller's copy of the answer."""
-    from .service.protocol import CheckUpdate
-
     if sol.checker is None:  # moved between workers (pickled without its closure)
         raise RuntimeError("the answer's check did not stay on its worker")
     sol.run_check()

@@ -65,6 +65,11 @@ def as_axis(c: Coordinate) -> Axis | None:
     return Axis(c) if isinstance(c, str) else None
 
 
+def shown_in(views: Mapping[str, float], view: Mapping[str, float]) -> bool:
+    """Whether a handle restricted to `views` (option → value) shows in `view`."""
+    return all(view.get(k) == v for k, v in views.items())
+
+
 def coordinate(c: Coordinate, values: Mapping[str, float], view: Mapping[str, float]) -> float:
     axis = as_axis(c)
     return float(c) if axis is None else axis.where(values, view)  # type: ignore[arg-type]
@@ -100,7 +105,7 @@ class Handle:
         return tuple(axis.param for axis in self.axes if axis is not None)
 
     def shown_in(self, view: Mapping[str, float]) -> bool:
-        return all(view.get(k) == v for k, v in self.views.items())
+        return shown_in(self.views, view)
 
     def where(self, values: Mapping[str, float], view: Mapping[str, float]) -> tuple[float, ...]:
         """Display-frame position (metres) for these values and view options."""
@@ -156,7 +161,7 @@ class CurveHandle:
         return self.start is not None
 
     def shown_in(self, view: Mapping[str, float]) -> bool:
-        return all(view.get(k) == v for k, v in self.views.items())
+        return shown_in(self.views, view)
 
     def points(self, v: np.ndarray, values: Mapping[str, float], view: Mapping[str, float]
                ) -> np.ndarray:

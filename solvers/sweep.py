@@ -24,8 +24,7 @@ from typing import Any, TypedDict, Unpack
 
 import numpy as np
 
-from .cluster import connect
-from .registry import get_mission, list_missions, load_mission_files
+from .cluster import connect, mission_for
 from .request import SolveRequest
 from .service import SolveService
 
@@ -74,9 +73,7 @@ def solve_summary(mission_key: str, values: Mapping[str, float], method: str | N
     """Solve one request and return its JSON-ready summary (the work unit of mission sweeps
     on a cluster, where the limit is `Mission.solve`'s cooperative one); `mission_files` are
     loaded first when the mission is not known in this process."""
-    if mission_files and mission_key not in {m.key for m in list_missions()}:
-        load_mission_files(list(mission_files))
-    return get_mission(mission_key).solve(dict(values), method=method, nodes=nodes,
+    return mission_for(mission_key, mission_files).solve(dict(values), method=method, nodes=nodes,
                                           time_limit=time_limit).to_dict()
 
 

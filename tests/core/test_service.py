@@ -28,6 +28,14 @@ def service():
     svc.close()
 
 
+def _until(condition, seconds: float) -> None:
+    """Poll `condition` until it holds; fail after `seconds`."""
+    deadline = time.monotonic() + seconds
+    while not condition():
+        assert time.monotonic() < deadline, "timed out"
+        time.sleep(0.005)
+
+
 def _published_ok(sol) -> None:
     mission = solvers.get_mission(sol.mission)
     checked = [p for p in mission.published
@@ -148,10 +156,7 @@ def test_the_time_limit_runs_from_the_solves_start_not_from_its_hand_over(servic
     _both_workers_solved(service, SolveRequest("lunar-landing", "hermite-simpson"))
     job = service.submit(SolveRequest("lunar-landing", "hermite-simpson", time_limit=30.0),
                          session="late", test_hook="busy")
-    deadline = time.monotonic() + 10.0
-    while job.started is None:
-        assert time.monotonic() < deadline
-        time.sleep(0.005)
+    _until(lambda: job.started is not None, 10.0)
     handed_over = job.started
     sol = job.result(60.0)
     assert sol.ok, sol.message
@@ -161,10 +166,7 @@ def test_the_time_limit_runs_from_the_solves_start_not_from_its_hand_over(servic
 def test_a_worker_killed_mid_solve_is_reported_and_replaced(service):
     job = service.submit(SolveRequest("lunar-landing", "hermite-simpson", time_limit=60.0),
                          session="victim", test_hook="hang")
-    deadline = time.monotonic() + 10.0
-    while job.worker is None:
-        assert time.monotonic() < deadline
-        time.sleep(0.01)
+    _until(lambda: job.worker is not None, 10.0)
     time.sleep(0.3)
     os.kill(service.pids()[job.worker], signal.SIGKILL)
     sol = job.result(30.0)
