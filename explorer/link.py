@@ -14,6 +14,7 @@ evaluated.
 from __future__ import annotations
 
 import json
+import secrets
 from collections.abc import Callable
 from urllib.parse import parse_qsl, urlencode
 
@@ -89,15 +90,31 @@ def parse_case(query: str, missions: dict[str, Mission]
 
 
 
-def address_html(query: str) -> str:
-    """HTML whose script puts `query` into the address bar (and shows nothing)."""
-    return run_once_html(f"history.replaceState(null, '', '?' + {json.dumps(query)});")
+def address_html(query: str, token: str) -> str:
+    """HTML whose script puts `query` into the address bar (and shows nothing), and keeps
+    it as the case last shown by the tab's connection `token` (see `READ_ADDRESS`)."""
+    return run_once_html(
+        f"history.replaceState(null, '', '?' + {json.dumps(query)});"
+        "const shown = (window.__explorerCases = window.__explorerCases || []);"
+        f"const i = shown.findIndex((e) => e[0] === {json.dumps(token)});"
+        "if (i >= 0) shown.splice(i, 1);"
+        f"shown.push([{json.dumps(token)}, {json.dumps(query)}]);")
 
 
-# Sends the opening address through the hidden box (a link that is too long is refused
-# with its length).
+# Sends the opening address through the hidden box once per connection (a link that is too
+# long is refused with its length). Not the address bar: this connection's writer may
+# already have put its own session's case there (a student who opened the room's link read
+# the teacher's case, and restoring it branched the student off the room), and the reader
+# runs again whenever the page re-renders it. So: the address the page was opened with (its
+# navigation entry), or after a reconnection the case the page showed last, as the earlier
+# connection's writer kept it. (`window.URL`: in an inline handler `URL` is document.URL.)
 READ_ADDRESS = """
-  let query = window.location.search.slice(1);
+  if (window.__explorerCaseRead === TOKEN) return;
+  window.__explorerCaseRead = TOKEN;
+  const before = (window.__explorerCases || []).filter((e) => e[0] !== TOKEN).pop();
+  const opened = performance.getEntriesByType('navigation')[0];
+  let query = before ? before[1]
+      : (opened ? new window.URL(opened.name).search : window.location.search).slice(1);
   if (!query.includes('mission=')) return;
   if (query.length > MAX_LINK) query = TOO_LONG + query.length;
   fill(query);
@@ -111,8 +128,9 @@ class CaseLink:
     def __init__(self, gui: viser.GuiApi, restore: Callable[[str], None]) -> None:
         self.box = gui.add_text(BOX_LABEL, "", order=-99)
         self.box.on_update(lambda _: restore(str(self.box.value)) if self.box.value else None)
+        self.token = secrets.token_hex(8)  # this tab's connection (see READ_ADDRESS)
         body = READ_ADDRESS.replace("MAX_LINK", str(MAX_LINK)).replace(
-            "TOO_LONG", json.dumps(TOO_LONG))
+            "TOO_LONG", json.dumps(TOO_LONG)).replace("TOKEN", json.dumps(self.token))
         self.reader = gui.add_html(hidden_box_html(BOX_LABEL, body), order=-98)
         self.writer = gui.add_html("", order=-97)
         self._query = ""
@@ -121,4 +139,4 @@ class CaseLink:
         """Put `query` into the address bar of every page watching."""
         if query != self._query:
             self._query = query
-            self.writer.content = address_html(query)
+            self.writer.content = address_html(query, self.token)
