@@ -1,9 +1,12 @@
 """Mars powered descent (Açıkmeşe & Ploen 2007; Blackmore, Açıkmeşe & Scharf 2010).
 
-No published fuel or flight time was found for the papers' example (m_wet 1905 kg, m_dry
-1505 kg, Isp 225 s, 6 x 3100 N canted 27°, throttle 0.3-0.8, g = 3.7114 m/s²; the data as
-restated by the Waterloo ECE 602 reproduction of Blackmore et al., 2016), so the checks are
-independent methods against each other: the lossless SOCP (convex relaxation, its own
+Published for the papers' example (m_wet 1905 kg, m_dry 1505 kg, Isp 225 s, 6 x 3100 N canted
+27°, throttle 0.3-0.8, g = 3.7114 m/s², start 2 km downrange and 1.5 km up at (100, -75) m/s,
+glide slope 4°): Açıkmeşe & Ploen 2007, Figs. 7-8, t_f = 81 s and 399.5 kg of fuel, on the
+paper's discrete problem (a 1-s grid, the thrust direction fixed straight up at its last
+node). `test_the_papers_fuel_on_the_papers_grid` reproduces it on that grid; in continuous
+time the methods here agree on less (the records in `problem.py` say why). The other checks
+are independent methods against each other: the lossless SOCP (convex relaxation, its own
 discretisation), IPOPT on the nonconvex original (Hermite-Simpson) and SCvx on the same NLP;
 the relaxation's claim |T| = Γ >= ρ1 at every node; and the bounds that make a request
 impossible, named.
@@ -31,8 +34,42 @@ def test_three_methods_agree_on_the_fuel_within_a_tenth_of_a_percent(solved) -> 
                                                                   "hermite-simpson")}
     assert all(np.isfinite(v) for v in fuel.values()), fuel
     assert max(fuel.values()) - min(fuel.values()) <= 1e-3 * max(fuel.values()), fuel
-    # Minimum fuel is not minimum time: the optimum throttles down to ρ1 in between.
+    # Minimum fuel is not minimum time: the optimum throttles down to ρ1 in between; the
+    # propellant aboard is 400 kg.
     assert 300.0 < fuel["lossless"] < 400.0
+
+
+def test_the_papers_fuel_on_the_papers_grid() -> None:
+    """Açıkmeşe & Ploen 2007, Figs. 7-8: 399.5 kg (t_f = 81 s). Their problem is discrete:
+    steps of 1 s, the thrust direction straight up (n̂f) at the last node. The lossless SOCP
+    on that grid, t_f scanned in whole seconds as the paper does, reproduces the fuel to
+    0.05 kg (at 78 s: our first-order-hold thrust differs from the paper's basis functions,
+    and 81 s admits no landing here). Without the last node's direction, or on a finer grid,
+    the fuel falls towards the continuous optimum (398.08 kg): the pointwise constraint is
+    a cost of the 1-s grid, not of the landing."""
+    import cvxpy as cp
+
+    p = parameter_vector(solvers.get_mission(KEY).defaults("lossless"))
+
+    def fuel(tf: float, step: float, upright: bool) -> float:
+        socp = descent_socp(int(round(tf / step)))
+        socp.set_data(p, tf)
+        socp.miss_bound.value = 0.0
+        last = [socp.u[socp.N, :2] == 0] if upright else []
+        problem_ = cp.Problem(cp.Maximize(socp.z[socp.N]), socp.fuel_problem.constraints + last)
+        problem_.solve(solver=cp.CLARABEL)
+        if problem_.status not in (cp.OPTIMAL, cp.OPTIMAL_INACCURATE):
+            return np.inf
+        return float(p[6] - np.exp(socp.z.value[-1]))
+
+    times = np.arange(75.0, 83.0)
+    paper = [fuel(tf, 1.0, upright=True) for tf in times]
+    best = int(np.argmin(paper))
+    assert abs(paper[best] - 399.5) <= 0.1, dict(zip(times, paper, strict=True))
+    assert 77.0 <= times[best] <= 81.0
+    assert fuel(times[best], 1.0, upright=False) < paper[best] - 0.5
+    continuous = solve_lossless(p, 120).best.fuel
+    assert continuous < paper[best] - 1.0
 
 
 def test_scvx_finds_the_nlp_optimum_that_ipopt_finds(solved) -> None:
@@ -79,14 +116,15 @@ def test_a_switch_is_where_a_step_gives_the_ramps_impulse() -> None:
 
 
 def test_the_live_default_is_within_its_cost_target_of_a_fine_mesh(solved) -> None:
-    """With equal steps a bang–bang switch falls anywhere in an interval: at the default 40
-    intervals the fuel was 0.09 kg above a 120-interval solve (2.5e-4 of it, the cost target
-    being 1e-4) and the answer `inaccurate`. With the switches on short intervals of their
-    own the default is `optimal`, its fuel within the target of the fine solve and the
-    difference within its own error estimate."""
+    """With equal steps a bang–bang switch falls anywhere in an interval: at 40 intervals
+    the fuel was 0.09 kg above a 120-interval solve (2.5e-4 of it, the cost target being
+    1e-4) and the answer `inaccurate`. With the switches on short intervals of their own
+    the default is `optimal`, its fuel within the target of the fine solve and the
+    difference within its own error estimate. (60 intervals: at 40 the estimate, 0.004 kg
+    from the 60-interval solve, was 2.7 times below the error, 0.011 kg.)"""
     sol = solved(KEY, "lossless", None, {})
     fine = solve_lossless(parameter_vector(sol.values), 120).best.fuel
-    assert sol.nodes == 40 and sol.status == "optimal", sol.message
+    assert sol.nodes == 60 and sol.status == "optimal", sol.message
     assert abs(sol.cost.value - fine) <= 1e-4 * fine
     assert abs(sol.cost.value - fine) <= sol.cost.error_estimate
 

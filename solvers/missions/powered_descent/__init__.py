@@ -33,7 +33,7 @@ class PoweredDescent(Mission, records=problem):
     key = "powered-descent"
     title = "Mars powered descent (convex guidance)"
     summary = "Minimum-fuel pinpoint landing on Mars with a nonconvex thrust bound."
-    methods = (LOSSLESS, SCVX.replace(nodes=(10, 30, 120), options=ON_MESH),
+    methods = (LOSSLESS, SCVX.replace(nodes=(10, 40, 120), options=ON_MESH),
                HERMITE_SIMPSON.replace(nodes=(10, 40, 200), options=ON_MESH))
     cost_label = "fuel"
     cost_unit = "kg"

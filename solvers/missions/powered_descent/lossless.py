@@ -45,6 +45,7 @@ GOLDEN = (np.sqrt(5.0) - 1.0) / 2.0
 REACHED = 0.1  # m: a least landing error below this reaches the target (minimum fuel then)
 SOLVED = (cp.OPTIMAL, cp.OPTIMAL_INACCURATE)
 ROUNDS = 3  # re-centrings of the mesh on the switches
+SCAN = 12  # final times scanned across the papers' bracket
 
 
 @dataclass
@@ -227,13 +228,28 @@ def solve_lossless(p: np.ndarray, n_intervals: int, objective: str = "fuel",
         try:
             a, b = _bracket(fuel_at, t_lo, t_hi, ctx)
         except _NoLanding:
-            closest, _ = _min_landing_error(socp, p, t_lo, t_hi, count, ctx, tf_tol)
+            closest, tf_miss = _min_landing_error(socp, p, t_lo, t_hi, count, ctx, tf_tol)
+            if closest <= REACHED:  # a window of landings narrower than the scan's step
+                # (at the papers' example the propellant lasts from 75 s to 81 s only)
+                step = (t_hi - t_lo) / (SCAN - 1)
+                a, b = _bracket(fuel_at, max(t_lo, tf_miss - step),
+                                min(t_hi, tf_miss + step), ctx)
+                tf = _refine(fuel_at, a, b, tf_tol, ctx)
+                return _finish(socp, p, cache, fuel_at, tf, count, tf_tol, ctx)
             raise Infeasible(
                 f"the target is out of reach: with the propellant (m(tf) ≥ m_dry = "
                 f"{p[P_MDRY]:g} kg), the thrust bounds and the state constraints the closest "
                 f"touchdown is {closest:.0f} m from it — add propellant, or choose minimum "
                 "landing error") from None
         tf = _refine(fuel_at, a, b, tf_tol, ctx)
+    return _finish(socp, p, cache, fuel_at, tf, count, tf_tol, ctx)
+
+
+def _finish(socp: DescentSOCP, p: np.ndarray, cache: dict[float, SOCPResult | None],
+            fuel_at: Callable[[float], float], tf: float, count: list[int], tf_tol: float,
+            ctx: SolveContext | None) -> LosslessResult:
+    """The best final time found (`tf`, or a better one the search met): its SOCP optimum
+    expanded about its own mass profile and put on a mesh that follows its switches."""
     best = min((r for r in cache.values() if r is not None), key=lambda r: r.fuel)
     if fuel_at(tf) <= best.fuel:
         best = cache[tf]
@@ -279,7 +295,7 @@ def _bracket(fuel_at, t_lo: float, t_hi: float, ctx: SolveContext | None
              ) -> tuple[float, float]:
     """An interval around the best final time from a scan of the papers' bracket
     [t_min, t_max]; raises `_NoLanding` when no scanned final time lands."""
-    grid = np.linspace(t_lo, t_hi, 12)
+    grid = np.linspace(t_lo, t_hi, SCAN)
     values = []
     for t in grid:
         if ctx is not None:
@@ -305,7 +321,7 @@ def _min_landing_error(socp: DescentSOCP, p: np.ndarray, t_lo: float, t_hi: floa
             cache[tf] = np.inf if res is None else res.miss
         return cache[tf]
 
-    grid = np.linspace(t_lo, t_hi, 12)
+    grid = np.linspace(t_lo, t_hi, SCAN)
     values = [miss_at(float(t)) for t in grid]
     k = int(np.argmin(values))
     if not np.isfinite(values[k]):
@@ -313,7 +329,8 @@ def _min_landing_error(socp: DescentSOCP, p: np.ndarray, t_lo: float, t_hi: floa
             "no final time admits a touchdown at all: the propellant (m(tf) ≥ m_dry = "
             f"{p[P_MDRY]:g} kg) cannot stop the descent within the thrust bounds and the "
             "state constraints — add propellant or thrust, or start higher or slower")
-    tf = _refine(miss_at, float(grid[max(k - 1, 0)]), float(grid[min(k + 1, 11)]), tf_tol, ctx)
+    tf = _refine(miss_at, float(grid[max(k - 1, 0)]), float(grid[min(k + 1, SCAN - 1)]),
+                 tf_tol, ctx)
     if miss_at(tf) > values[k]:
         tf = float(grid[k])
     return miss_at(tf), tf

@@ -33,7 +33,7 @@ LOSSLESS = Method(
     "The slack Γ ≥ |T| with ρ1 ≤ Γ ≤ ρ2, z = ln m and σ = Γ/m make the problem a second-order "
     "cone program whose optimum has |T| = Γ; compiled once per node count with CVXPY "
     "parameters, re-solved by Clarabel; an outer golden-section search on the final time.",
-    nodes=(10, 40, 200), nodes_label="intervals", backends=("clarabel",),
+    nodes=(10, 60, 200), nodes_label="intervals", backends=("clarabel",),
     params=(Param("objective", "problem", "", 0, 0, 1, 1, group="Method",
                   options=("minimum fuel", "minimum landing error"),
                   help="Minimum landing error (Blackmore et al. 2010): land as close to the "

@@ -26,12 +26,15 @@ N_PARAMS = 15
 
 
 def parameter_vector(values: dict[str, float]) -> np.ndarray:
-    """The numeric parameters (SI) from validated mission values."""
+    """The numeric parameters (SI) from validated mission values. The effective exhaust
+    speed c is Isp g0 cos(cant): the canted thrusters burn propellant for their whole
+    thrust but push along the axis with its cosine (Açıkmeşe & Ploen 2007, Eq. 3:
+    α = 1/(Isp g_e cos φ))."""
     t_max = values["thrusters"] * values["thrust_each"] * np.cos(values["cant"])
     return np.array([
         values["downrange0"], values["crossrange0"], values["altitude0"],
         values["vx0"], values["vy0"], values["vz0"],
-        values["mass_wet"], values["mass_dry"], values["isp"] * G0,
+        values["mass_wet"], values["mass_dry"], values["isp"] * G0 * np.cos(values["cant"]),
         values["throttle_min"] * t_max, values["throttle_max"] * t_max, values["gravity"],
         np.tan(values["glide_slope"]), values["max_speed"], np.cos(values["pointing"]),
     ])
