@@ -39,7 +39,7 @@ from .model import (
     P_VMAX,
     flight_time_bounds,
 )
-from .switch_mesh import SHORT, switch_mesh, switch_times
+from .switch_mesh import SHORT, anchored_mesh, equal_mesh, switch_times
 
 GOLDEN = (np.sqrt(5.0) - 1.0) / 2.0
 REACHED = 0.1  # m: a least landing error below this reaches the target (minimum fuel then)
@@ -211,8 +211,8 @@ def solve_lossless(p: np.ndarray, n_intervals: int, objective: str = "fuel",
         if miss > REACHED:
             return _fuel_at_landing_error(socp, p, miss, tf_miss, count)
     cache: dict[float, SOCPResult | None] = {}
-    mesh = [_anchored(socp.N, switches_hint, tf_hint) if tf_hint and len(switches_hint)
-            else _equal]
+    mesh = [anchored_mesh(socp.N, switches_hint, tf_hint) if tf_hint and len(switches_hint)
+            else equal_mesh]
 
     def fuel_at(tf: float) -> float:
         if tf not in cache:
@@ -223,7 +223,7 @@ def solve_lossless(p: np.ndarray, n_intervals: int, objective: str = "fuel",
 
     tf = _near_hint(fuel_at, t_lo, t_hi, tf_hint, tf_tol, ctx)
     if tf is None:
-        mesh[0] = _equal  # the whole range on one mesh: the hint's switches may not fit
+        mesh[0] = equal_mesh  # the whole range on one mesh: the hint's switches may not fit
         cache.clear()
         try:
             a, b = _bracket(fuel_at, t_lo, t_hi, ctx)
@@ -354,23 +354,6 @@ def _relinearise(socp: DescentSOCP, p: np.ndarray, best: SOCPResult, miss_bound:
     return best, steps
 
 
-def _equal(tf: float) -> None:
-    """The mesh of equal steps at any final time."""
-    return None
-
-
-def _anchored(n_intervals: int, switches: Sequence[float], ref: float
-              ) -> Callable[[float], np.ndarray | None]:
-    """The switch mesh for switches found at final time `ref`, as a function of t_f: a
-    switch in the first half of the flight keeps its time from the start, a later one its
-    time before touchdown. (With the mesh fixed in τ instead, only `ref` would have its
-    switches on their intervals, and a search over t_f could not leave it.)"""
-    def mesh(tf: float) -> np.ndarray | None:
-        return switch_mesh(n_intervals, [s / tf if s < ref / 2 else 1 - (ref - s) / tf
-                                         for s in switches])
-    return mesh
-
-
 def _follow_switches(socp: DescentSOCP, p: np.ndarray, best: SOCPResult, miss_bound: float,
                      count: list[int], relinearisations: int, tf_tol: float,
                      ctx: SolveContext | None, rounds: int = ROUNDS) -> tuple[SOCPResult, int]:
@@ -380,7 +363,7 @@ def _follow_switches(socp: DescentSOCP, p: np.ndarray, best: SOCPResult, miss_bo
     test_powered_descent.py) where equal steps converge at order 1 to 2 in N."""
     for _ in range(rounds):
         switches = switch_times(best.t, best.sigma * np.exp(best.z), p[P_RHO1], p[P_RHO2])
-        mesh = _anchored(socp.N, switches, best.tf)
+        mesh = anchored_mesh(socp.N, switches, best.tf)
         tau = mesh(best.tf)
         if tau is None or np.allclose(tau, best.t / best.tf, rtol=0.0,
                                       atol=SHORT / (2 * socp.N)):

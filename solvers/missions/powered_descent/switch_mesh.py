@@ -11,7 +11,7 @@ intervals share the rest of [0, 1] by length: the nodes go where the control is 
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
@@ -70,3 +70,20 @@ def switch_mesh(n_intervals: int, switches: Sequence[float], short: float = SHOR
         if j < len(switches):
             tau.append([cuts[2 * j + 1]])
     return np.concatenate([*tau, [1.0]])
+
+
+def equal_mesh(tf: float) -> None:
+    """The mesh of equal steps at any final time."""
+    return None
+
+
+def anchored_mesh(n_intervals: int, switches: Sequence[float], ref: float
+                  ) -> Callable[[float], np.ndarray | None]:
+    """The switch mesh for switches found at final time `ref`, as a function of t_f: a
+    switch in the first half of the flight keeps its time from the start, a later one its
+    time before touchdown. (With the mesh fixed in τ instead, only `ref` would have its
+    switches on their intervals, and a search over t_f could not leave it.)"""
+    def mesh(tf: float) -> np.ndarray | None:
+        return switch_mesh(n_intervals, [s / tf if s < ref / 2 else 1 - (ref - s) / tf
+                                         for s in switches])
+    return mesh
