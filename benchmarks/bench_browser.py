@@ -2,14 +2,18 @@
 
 For each case a slider thumb of the mission's live parameter is stepped with the keyboard
 (as a person would) and the page's own clocks measure the time until the status element
-shows the new optimum; the Long Tasks API sums the page's long tasks from the key press
-until 0.5 s after the new status; viser's sender counts the messages and websocket bytes sent to
-the page for the update. Median over `--repeats`. The floor is measured first in the same
-browser: a bare viser page whose slider writes a markdown line; each case's ratio to it is
-printed. `--by-type` also lists, per case, what the messages of one update were: type, the
-scene node or GUI element, the properties they set. `--trace` records one more update per
-case with Chromium's tracing (DevTools protocol) and prints where the page's threads spent
-it: each thread's busy time and its largest kinds of top-level task.
+shows the new optimum, and until the new picture is on its way to the screen: the later of
+the frame that paints the new text and the first frame that draws the changed scene (it
+uploads the new geometry). The Long Tasks API sums the page's long tasks from the key press
+until 0.5 s after the new status; viser's sender counts the messages and websocket bytes
+sent to the page for the update. Median over `--repeats`. The floor is measured first in
+the same browser: a bare viser page whose slider writes a markdown line (with the
+explorer's guard that keeps arrow keys on a focused slider, which in a bare page also turn
+the camera); each case's ratio to it is printed, and to a scene floor, the same page also
+moving a path over a lit sphere. `--by-type` also lists, per case, what the messages of one
+update were: type, the scene node or GUI element, the properties they set. `--trace`
+records one more update per case with Chromium's tracing (DevTools protocol) and prints
+where the page's threads spent it: each thread's busy time and its largest kinds of task.
 
     python benchmarks/bench_browser.py [--repeats 7] [--case lunar-landing:hermite-simpson]
                                        [--by-type] [--trace]
@@ -18,6 +22,7 @@ it: each thread's busy time and its largest kinds of top-level task.
 from __future__ import annotations
 
 import argparse
+import json
 import statistics
 import sys
 import threading
@@ -35,8 +40,31 @@ CASES = (("lunar-landing", "hermite-simpson"), ("lunar-landing", "paper"),
          ("cw-rendezvous", "paper"), ("elliptic-transfer", "stm-law"),
          ("asteroid-rendezvous", "hermite-simpson"))
 
+# The end of the first frame after a change of the page's text: the frame's callbacks run,
+# then its paint and commit (for a 3D canvas in software, the wait for its pixels); a task
+# queued from the callbacks runs after all of that, as the frame goes to the screen.
+PAINTED = """const painted = (record) => {
+    requestAnimationFrame(() => setTimeout(() => record.push(performance.now()), 0));
+    return record;
+  };"""
+
+# The frames that draw a changed scene: the first to upload geometry (a new path's points)
+# after a key press is the one that shows the new answer in 3D; its end is the picture's.
+UPLOADS = """window.__uploads = [];
+  for (const C of [WebGLRenderingContext, WebGL2RenderingContext]) {
+    for (const name of ['bufferData', 'bufferSubData']) {
+      const original = C.prototype[name];
+      C.prototype[name] = function (...args) {
+        const last = window.__uploads[window.__uploads.length - 1];
+        if (!last || last.length > 1) window.__uploads.push(painted([performance.now()]));
+        return original.apply(this, args);
+      };
+    }
+  }"""
+
 INSTRUMENT = """() => {
   window.__bench = {longtasks: [], status: []};
+  """ + PAINTED + UPLOADS + """
   new PerformanceObserver((list) => {
     for (const e of list.getEntries()) window.__bench.longtasks.push([e.startTime, e.duration]);
   }).observe({type: 'longtask', buffered: true});
@@ -44,7 +72,10 @@ INSTRUMENT = """() => {
   new MutationObserver(() => {
     const el = document.getElementById('explorer-status');
     const text = el ? el.textContent : null;
-    if (text !== last) { last = text; window.__bench.status.push([performance.now(), text]); }
+    if (text !== last) {
+      last = text;
+      window.__bench.status.push(painted([performance.now(), text]));
+    }
   }).observe(document.body, {subtree: true, childList: true, characterData: true});
 }"""
 
@@ -179,7 +210,8 @@ def measure(page, view, key: str, label: str, repeats: int, frames: Frames) -> l
     rows = []
     for k in range(repeats):
         before = view.session.latest
-        page.evaluate("() => { window.__bench.status = []; window.__bench.longtasks = []; }")
+        page.evaluate("() => { window.__bench.status = []; window.__bench.longtasks = [];"
+                      " window.__uploads = []; }")
         frames.take()
         thumb.focus()
         t0 = page.evaluate("() => performance.now()")
@@ -192,19 +224,36 @@ def measure(page, view, key: str, label: str, repeats: int, frames: Frames) -> l
             time.sleep(0.01)
         sol = view.session.latest
         text = fmt(sol.cost.value, sol.cost.unit) if sol.ok else sol.status
-        shown = None
-        while shown is None and time.monotonic() < deadline:
+        shown = painted = None
+        while painted is None and time.monotonic() < deadline:
             records = page.evaluate("() => window.__bench.status")
-            shown = next((t for t, content in records if text in content), None)
+            record = next((r for r in records if text in r[1]), None)
+            if record is not None:
+                shown, painted = record[0], (record[2] if len(record) > 2 else None)
             time.sleep(0.05)
+        picture = _picture(page, painted, deadline)
         time.sleep(0.5)
         long_ms = page.evaluate(f"""() => window.__bench.longtasks
             .filter(([start, d]) => start >= {t0} && start <= {shown or t0} + 500)
             .reduce((s, [_, d]) => s + d, 0)""")
         count, size = frames.take()
-        rows.append((shown - t0 if shown else float("nan"), long_ms, count, size, sol.status))
+        rows.append((shown - t0 if shown else float("nan"), long_ms, count, size, sol.status,
+                     picture - t0 if picture else float("nan")))
         view.session.wait_idle(60.0)
     return rows
+
+
+def _picture(page, painted: float | None, deadline: float) -> float | None:
+    """When the new picture is on its way to the screen: the later of the frame that
+    painted the new text and the first frame that drew the changed scene (None: neither)."""
+    if painted is None:
+        return None
+    while time.monotonic() < deadline:
+        drawn = page.evaluate("() => (window.__uploads[0] || [])[1] || null")
+        if drawn is not None:
+            return max(painted, drawn)
+        time.sleep(0.02)
+    return None
 
 
 def show_case(page, view, key: str, method: str):
@@ -226,9 +275,10 @@ def show_case(page, view, key: str, method: str):
 
 FLOOR_OBSERVER = """() => {
   window.__floor = [];
+  """ + PAINTED + UPLOADS + r"""
   new MutationObserver(() => {
-    const el = [...document.querySelectorAll('p')].find((p) => /^floor \\d+$/.test(p.textContent));
-    if (el) window.__floor.push([performance.now(), el.textContent]);
+    const el = [...document.querySelectorAll('p')].find((p) => /^floor \d+$/.test(p.textContent));
+    if (el) window.__floor.push(painted([performance.now(), el.textContent]));
   }).observe(document.body, {subtree: true, childList: true, characterData: true});
 }"""
 
@@ -243,6 +293,7 @@ def measure_floor(context, repeats: int, scene: bool = False) -> list[float]:
     import viser
 
     from explorer.capture import close_webgl_toast, free_port, settle
+    from explorer.help import CAMERA_KEYS, KEEP_KEYS_ON_CONTROLS
 
     server = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)
     try:
@@ -271,20 +322,26 @@ def measure_floor(context, repeats: int, scene: bool = False) -> list[float]:
         close_webgl_toast(page)
         if scene:
             settle(page, 60.0)  # the first frame (shaders) before the first key press
+        # The explorer's guard that keeps arrow keys on a focused slider: in a bare viser
+        # page they also turn the camera, and the floor would pay for those frames.
+        page.evaluate("() => {" + KEEP_KEYS_ON_CONTROLS.replace(
+            "CAMERA_KEYS", json.dumps(CAMERA_KEYS)) + "}")
         page.evaluate(FLOOR_OBSERVER)
         thumb = slider_thumb(page, "floor value")
         times = []
         for k in range(repeats):
-            page.evaluate("() => { window.__floor = []; }")
+            page.evaluate("() => { window.__floor = []; window.__uploads = []; }")
             value = 51 if k % 2 == 0 else 50
             thumb.focus()
             t0 = page.evaluate("() => performance.now()")
             page.keyboard.press("ArrowRight" if k % 2 == 0 else "ArrowLeft")
             page.wait_for_function(
-                f"() => window.__floor.some(([t, c]) => c === 'floor {value}')", timeout=60e3)
-            shown = page.evaluate(
-                f"() => window.__floor.find(([t, c]) => c === 'floor {value}')[0]")
-            times.append(shown - t0)
+                f"() => window.__floor.some(([t, c, p]) => c === 'floor {value}' && p)",
+                timeout=60e3)
+            shown, _, painted = page.evaluate(
+                f"() => window.__floor.find(([t, c]) => c === 'floor {value}')")
+            picture = _picture(page, painted, time.monotonic() + 60.0) if scene else painted
+            times.append((shown - t0, picture - t0))
             time.sleep(0.3)
         page.close()
         return times
@@ -323,14 +380,18 @@ def main(argv: list[str] | None = None) -> None:
     app.service.wait_prebuilt()  # measure the classroom after start-up, not during it
     try:
         with chromium(1280, 800, gpu_process=args.gpu_process) as context:
-            floor = statistics.median(measure_floor(context, args.repeats))
-            print(f"floor (bare viser page, slider -> markdown): {floor:.0f} ms", flush=True)
-            scene_floor = statistics.median(measure_floor(context, args.repeats, scene=True))
+            floors = measure_floor(context, args.repeats)
+            floor, floor_paint = (statistics.median(f[i] for f in floors) for i in (0, 1))
+            print(f"floor (bare viser page, slider -> markdown): {floor:.0f} ms, picture "
+                  f"{floor_paint:.0f} ms", flush=True)
+            scenes = measure_floor(context, args.repeats, scene=True)
+            scene_floor = statistics.median(f[0] for f in scenes)
             print(f"scene floor (the same, moving a path over a lit sphere): "
-                  f"{scene_floor:.0f} ms", flush=True)
+                  f"{scene_floor:.0f} ms, picture "
+                  f"{statistics.median(f[1] for f in scenes):.0f} ms", flush=True)
             print(f"{'mission':20s} {'method':18s} {'input→status ms':>16s} {'× floor':>8s} "
-                  f"{'× scene':>8s} {'long tasks ms':>14s} {'messages':>9s} {'kB':>7s}",
-                  flush=True)
+                  f"{'× scene':>8s} {'picture ms':>11s} {'× floor':>8s} {'long tasks ms':>14s} "
+                  f"{'messages':>9s} {'kB':>7s}", flush=True)
             frames = Frames()
             page, view = open_tab(app, context)
             close_webgl_toast(page)
@@ -341,13 +402,11 @@ def main(argv: list[str] | None = None) -> None:
                 frames.take()
                 frames.kinds.clear()
                 rows = measure(page, view, key, label_of(param), args.repeats, frames)
-                lat = statistics.median(r[0] for r in rows)
-                long_ms = statistics.median(r[1] for r in rows)
-                msgs = statistics.median(r[2] for r in rows)
-                kb = statistics.median(r[3] for r in rows) / 1e3
+                lat, long_ms, msgs, size, paint = (
+                    statistics.median(r[i] for r in rows) for i in (0, 1, 2, 3, 5))
                 print(f"{key:20s} {method:18s} {lat:16.0f} {lat / floor:8.1f} "
-                      f"{lat / scene_floor:8.1f} {long_ms:14.0f} {msgs:9.0f} {kb:7.0f}",
-                      flush=True)
+                      f"{lat / scene_floor:8.1f} {paint:11.0f} {paint / floor_paint:8.1f} "
+                      f"{long_ms:14.0f} {msgs:9.0f} {size / 1e3:7.0f}", flush=True)
                 if args.by_type:
                     print_kinds(frames.kinds, args.repeats)
                 if args.trace:

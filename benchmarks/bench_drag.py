@@ -1,6 +1,7 @@
 """Optima shown per second while a handle is dragged (issue 19), server side, per mission.
 
     python benchmarks/bench_drag.py [--mission KEY ...] [--seconds 5] [--rate 10]
+                                    [--method lunar-landing:hermite-simpson]
 
 Builds a real `View` on a viser server (server-side GUI and scene, no browser) solving on the
 solve service's worker processes, as bench_live_latency.py does, then drags one handle of
@@ -99,7 +100,10 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--mission", nargs="*", default=list(HANDLE))
     parser.add_argument("--seconds", type=float, default=5.0)
     parser.add_argument("--rate", type=float, default=10.0, help="drag events per second")
+    parser.add_argument("--method", action="append", default=[], metavar="MISSION:METHOD",
+                        help="solve MISSION by METHOD (default: its first method)")
     args = parser.parse_args(argv)
+    methods = dict(m.split(":", 1) for m in args.method)
 
     import viser
 
@@ -118,7 +122,8 @@ def main(argv: list[str] | None = None) -> None:
     try:
         for key in args.mission:
             mission = get_mission(key)
-            view = make_view(server, missions, mission, mission.methods[0].key, runner)
+            method = methods.get(key, mission.methods[0].key)
+            view = make_view(server, missions, mission, method, runner)
             try:
                 view.session.wait_idle(300.0)
                 rate, latencies = drag(view, HANDLE[key], args.seconds, args.rate)

@@ -174,6 +174,7 @@ def main(argv: list[str] | None = None) -> None:
         print(f"floor (bare viser page, dragged transform -> text): {floor:.1f} texts/s at "
               f"{args.rate:g} moves/s", flush=True)
         app = ExplorerApp("127.0.0.1", free_port(), args.mission[0])
+        app.service.wait_prebuilt()  # the room after start-up, not during its NLP builds
         try:
             page, view = open_tab(app, context, 300.0)
             close_webgl_toast(page)

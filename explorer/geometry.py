@@ -209,13 +209,18 @@ def build_geometry(pres: Presentation, t: np.ndarray, arcs: list[tuple[float, fl
     )
 
 
-def steady(size: float) -> float:
+def steady(size: float, shown: float | None = None, band: float = 0.125) -> float:
     """A drawn size (a point's, an arrow's, the vehicle's, a handle's) on a grid of steps of
     1/8 octave (9 %): a re-solve that barely changes the path's extent leaves it as it was,
     and viser sends nothing for a property set to its own value (each size sent made the
-    page rebuild that object: 11 of lunar landing's 32 messages per slider step)."""
+    page rebuild that object: 11 of lunar landing's 32 messages per slider step). Given the
+    size `shown` now, that size stays while `size` is within `band` octaves of it: a path
+    whose extent sits on a grid line would otherwise flip between two sizes on every step
+    (a handle's gizmo compiles a shader program in the page at each new size)."""
     if not np.isfinite(size) or size <= 0.0:
         return size
+    if shown is not None and shown > 0.0 and abs(np.log2(size / shown)) <= band:
+        return shown
     return float(2.0 ** (round(8.0 * np.log2(size)) / 8.0))
 
 

@@ -35,6 +35,7 @@ from .requests import Request
 from .session import Session
 
 GIZMO_FRACTION = 0.12  # gizmo arm length as a fraction of the path's extent
+GIZMO_BAND = 0.5  # octaves the path's extent may drift before the gizmo is resized
 # s after a hand's last drag event that the gizmo counts as let go even without an "end"
 # (a page may miss the release): then the values place it again.
 DRAG_IDLE = 1.0
@@ -126,7 +127,8 @@ class Handles:
                 self.clear()
                 self._mission = mission.key
             self._scale = pres.display_scale
-            self._size = steady(GIZMO_FRACTION * geometry.extent)
+            self._size = steady(GIZMO_FRACTION * geometry.extent, self._size if self._drawn
+                                else None, GIZMO_BAND)
             view = self.session.view
             items = [(h, None) for h in mission.handles]
             items += [(s.handle, s) for s in mission.shapes]

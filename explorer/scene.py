@@ -73,6 +73,7 @@ class SceneView:
         self._markers: list[tuple[Any | None, Any | None]] = []
         self._marker_kinds: list[tuple[str, bool, str]] = []
         self._names: dict[str, int] = {}  # times each node name was used
+        self._sizes: dict[str, float] = {}  # drawn sizes by role, kept while they fit
         self.updates = 0  # in-place updates sent (a test counts them)
         scene.configure_environment_map(None)
         scene.configure_default_lights(cast_shadow=False)
@@ -84,6 +85,11 @@ class SceneView:
         nodes = self._solution.get(f"{self.root}/nodes")
         if nodes is not None:
             nodes.colors = np.array(NODE if dark else NODE_LIGHT, np.uint8)
+
+    def _steady(self, role: str, size: float) -> float:
+        """`steady(size)`, keeping the size drawn for `role` while the new one is close."""
+        self._sizes[role] = steady(size, self._sizes.get(role))
+        return self._sizes[role]
 
     def _name(self, base: str) -> str:
         """A node name never used before in this view: `base`, then `base~1`, `base~2`...
@@ -102,10 +108,10 @@ class SceneView:
     def draw(self, g: Geometry) -> None:
         """Show `g`: the context if it changed, then path, nodes and arrows in place."""
         self._draw_context(g)
-        size = steady(0.006 * g.extent)  # world units: arrows scale with the view
+        size = self._steady("arrows", 0.006 * g.extent)  # world units: scale with the view
         self._segments(f"{self.root}/trajectory", self._solution, g.segments, g.segment_colors,
                        4.0)
-        self._points(f"{self.root}/nodes", g.nodes, node_size(g))
+        self._points(f"{self.root}/nodes", g.nodes, self._steady("nodes", node_size(g)))
         self._arrows(f"{self.root}/thrust", g.arrows, size)
         self._scale_bar(g)
 
@@ -196,7 +202,7 @@ class SceneView:
     # ---- vehicle ------------------------------------------------------------------------
     def set_vehicle(self, vehicle: str, extent: float) -> None:
         """The vehicle mesh (loaded once per vehicle), scaled to the view's extent."""
-        size = steady(VEHICLE_FRACTION * extent)
+        size = self._steady("vehicle", VEHICLE_FRACTION * extent)
         if vehicle != self._vehicle_name:
             self.remove_vehicle()
             self._load_vehicle(vehicle)
@@ -286,6 +292,7 @@ class SceneView:
         self._context, self._solution, self._layers, self._context_key = [], {}, {}, None
         self._context_shape = None
         self._moving, self._markers, self._marker_kinds = [], [], []
+        self._sizes = {}
 
     def _draw_context(self, g: Geometry) -> None:
         """Bodies and reference curves, re-sent only when they changed, and then in place
@@ -355,7 +362,7 @@ class SceneView:
                                                              strict=True):
             if point is not None:
                 point.points = position[None].astype(np.float32)
-                point.point_size = steady(0.015 * g.extent)
+                point.point_size = self._steady("markers", 0.015 * g.extent)
             if label is not None:
                 label.position = tuple(position)
                 if label.text != name:
@@ -369,7 +376,7 @@ class SceneView:
         if has_point:
             point = self.scene.add_point_cloud(
                 self._name(f"{self.root}/markers/{i}"), position[None].astype(np.float32),
-                color, point_size=steady(0.015 * extent), point_shape="circle",
+                color, point_size=self._steady("markers", 0.015 * extent), point_shape="circle",
                 precision="float32")
         label = None if not name else self.scene.add_label(
             self._name(f"{self.root}/labels/{i}"), name, position=tuple(position),

@@ -39,6 +39,7 @@ from .panels.trust import TrustPanel
 from .plots import figure_tree
 from .runners import Runner
 from .scene import SceneView
+from .sending import sender
 from .session import DEFAULT_TIME_LIMIT, Request, Session
 from .view_camera import ViewCamera
 from .view_drawing import ViewDrawing, drawn_signature
@@ -62,6 +63,7 @@ class View(ViewDrawing):
         """`scene_root` prefixes this view's scene nodes (views sharing one scene)."""
         self.gui = gui
         self.atomic = atomic  # groups one update into one browser frame
+        self.send_now = sender(atomic)  # the words of an answer leave before its picture
         self.session = self.session_class(mission, method=method, nodes=nodes, auto=False,
                                           time_limit=time_limit, runner=runner,
                                           patience=DRAG_PATIENCE)
@@ -249,6 +251,14 @@ class View(ViewDrawing):
         if request.refine and solution.converged:
             self.controls.fields["nodes"].show(solution.nodes)
         self.link.show(case_query(self.session))  # a refinement changed the node count
+        # The words first, the picture after: a batch of GUI messages alone is applied by
+        # the page at once, while one that touches the scene waits for the next 3D frame
+        # (and its text for the frame after that). Sent apart, the new numbers are painted
+        # in the same frame as the new scene, one software frame (~85 ms) sooner.
+        self.status.show_result(solution, checking=solution.ok and solution.has_trajectory,
+                                kept=good is not None and not solution.converged,
+                                nodes_label=self._nodes_label(request, solution))
+        self.send_now()
         if solution.converged:
             self._draw(solution, dim=False)
             self._set_failed(None)
@@ -258,9 +268,6 @@ class View(ViewDrawing):
             self._set_failed(solution if solution.has_trajectory else None)
             self.status.notify(self.camera.clients.values(),
                                f"{solution.status}: {solution.mission}", solution.message)
-        self.status.show_result(solution, checking=solution.ok and solution.has_trajectory,
-                                kept=good is not None and not solution.converged,
-                                nodes_label=self._nodes_label(request, solution))
 
     @staticmethod
     def _nodes_label(request: Request, sol: Solution) -> str:

@@ -48,6 +48,7 @@ class ViewDrawing:
 
     gui: viser.GuiApi
     atomic: Callable[[], AbstractContextManager[Any]]
+    send_now: Callable[[bool], None]
     session: Session
     dark: bool
     drawn: int
@@ -98,6 +99,7 @@ class ViewDrawing:
                                   if self.play.track else None, self.dark)
             self.side.show_map(pres.maps[0] if pres.maps else None, self.dark)
             self._draw_ghosts()
+        self.send_now(False)  # now, not after viser's window
         self.status.show_legend(legend_html(geometry, dim=dim, failed=self._failed,
                                             dark=self.dark))
         if not self.handles.in_hand:  # never under a hand: the point held would slip

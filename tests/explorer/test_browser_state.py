@@ -163,3 +163,52 @@ def test_a_long_or_malformed_link_opens_the_default_case_with_a_message(tab):
     page, view = tab("mission=lunar-landing&nodes=%C2%B2")  # nodes=²
     page.get_by_text("is not a whole number").first.wait_for(timeout=PATIENCE_MS)
     assert view.session.nodes == get_mission("lunar-landing").method("hermite-simpson").nodes[1]
+
+
+# In the page, before viser's page starts: every batch of messages its websocket worker
+# hands to the page, as (message type, scene node, the text a GUI update sets).
+_BATCHES = """(() => {
+  window.__batches = [];
+  const Original = window.Worker;
+  window.Worker = function (...args) {
+    const worker = new Original(...args);
+    worker.addEventListener('message', (event) => {
+      if (!event.data || event.data.type !== 'message_batch') return;
+      window.__batches.push(event.data.messages.map((m) => [
+        m.type, m.name || '', JSON.stringify((m.updates && m.updates.content) || '')]));
+    });
+    return worker;
+  };
+  window.Worker.prototype = Original.prototype;
+})();"""
+
+
+def test_the_words_of_an_answer_reach_the_page_before_its_picture(tab, app):
+    """The status of a new answer leaves in a batch of its own, before the batch that moves
+    the path: viser's page applies a batch of GUI messages at once but holds one that
+    touches the scene for its next 3D frame, so sent with (or after) the scene the new
+    numbers waited a software frame or two."""
+    from explorer.panels.status import fmt
+
+    app.context.add_init_script(_BATCHES)
+    page, view = tab()
+    _solved(view)
+    until(lambda: "checking" not in _status(page), "the first answer's check")
+    page.evaluate("() => { window.__batches = []; }")
+    before = view.session.latest
+    view.session.set_value("thrust", 2100.0)
+    until(lambda: view.session.wait_idle(60) and view.session.latest is not before
+           and view.session.latest.ok, "the new answer")
+    cost = fmt(view.session.latest.cost.value, view.session.latest.cost.unit)
+
+    def batches():
+        found = page.evaluate("() => window.__batches")
+        words = next((i for i, b in enumerate(found)  # the answer's, not its check's
+                      if any(cost in m[2] and "checking" in m[2] for m in b)), None)
+        path = next((i for i, b in enumerate(found)  # the new nodes (a dimmed path has none)
+                     if any(m[1].startswith("/nodes") for m in b)), None)
+        return None if words is None or path is None else (found, words, path)
+
+    found, words, path = until(batches, "the new status and nodes in the page")
+    assert words < path, f"the status came in batch {words}, the new nodes in batch {path}"
+    assert all(not m[0].startswith(("SceneNode", "Set")) for m in found[words]), found[words]

@@ -421,6 +421,24 @@ def test_drawn_sizes_stay_put_when_the_extent_barely_moves():
     assert steady(0.0) == 0.0
 
 
+def test_a_size_on_a_grid_line_does_not_flip_with_each_step():
+    """A path whose extent sits on a grid line of `steady` (slider steps to and fro) keeps
+    the size it shows while the new one is within the band; beyond it, the grid value. The
+    gizmo of a handle keeps its size over small changes of the path: each new size made the
+    page compile a shader program (lunar landing: one per slider step)."""
+    from explorer.geometry import steady
+
+    edge = 2.0 ** (2.5 + 1 / 16)  # half way between two grid values
+    below, above = edge * 0.99, edge * 1.01
+    assert steady(below) != steady(above)  # without what is shown: a flip per step
+    shown = steady(below)
+    for size in (above, below, above, below):
+        shown = steady(size, shown)
+    assert shown == steady(below)
+    assert steady(1.5 * edge, shown) == steady(1.5 * edge)  # far from it: the grid value
+    assert steady(1.3 * edge, shown, band=0.5) == shown  # the gizmo's wider band
+
+
 def test_marked_points_at_one_spot_share_one_label():
     """The asteroid's launch (at Earth) and arrival a year later lie close together: one
     label names both, both points stay; a distant marker and an axis tick keep theirs."""
