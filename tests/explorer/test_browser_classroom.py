@@ -12,9 +12,9 @@ from collections.abc import Iterator
 import pytest
 from browser_support import BROWSER, HEIGHT, PATIENCE_MS, WIDTH, until
 
-# In the default set: 6 runs in a row passed (alone and in full tests/explorer runs) after the case link's reader stopped taking
-# the teacher's case from a student's address bar (it branched 1 student tab in 6 off the
-# room, the failure these tests used to show in full runs).
+# In the default set: 6 runs in a row passed (alone and in full tests/explorer runs) after the
+# case link's reader stopped taking the teacher's case from a student's address bar (it branched
+# 1 student tab in 6 off the room, the failure these tests used to show in full runs).
 pytestmark = BROWSER
 pytest.importorskip("playwright.sync_api", reason="Python Playwright is not installed")
 
