@@ -13,7 +13,8 @@ from .app import ExplorerApp
 from .session import DEFAULT_TIME_LIMIT
 
 
-def main(argv: list[str] | None = None) -> None:
+def _parser() -> argparse.ArgumentParser:
+    """The command line: where to serve, what to show first, which mode, where to solve."""
     parser = argparse.ArgumentParser(prog="python -m explorer", description=__doc__)
     parser.add_argument("--host", default="127.0.0.1",
                         help="address to bind (default 127.0.0.1: this machine only; "
@@ -43,6 +44,12 @@ def main(argv: list[str] | None = None) -> None:
                         help="solve on this dask.distributed cluster instead (a lecture hall "
                              "beyond one machine; needs dask[distributed] here and on the "
                              "workers, with this package installed)")
+    return parser
+
+
+def main(argv: list[str] | None = None) -> None:
+    """Start the explorer and serve until Ctrl-C."""
+    parser = _parser()
     args = parser.parse_args(argv)
     if args.workers is not None and args.workers < 1:
         parser.error("--workers must be at least 1")

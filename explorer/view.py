@@ -84,6 +84,25 @@ class View(ViewDrawing):
         self.link = CaseLink(gui, self.restore_link)
         self.welcome = Welcome(gui)
         self.status = StatusPanel(gui)
+        self._build_tabs(gui, missions)
+        self.side = SidePanel(gui, self._redraw)
+        self._build_commands()
+        self.scene = SceneView(scene, dark=self.dark, root=scene_root)
+        self.camera = ViewCamera(self.play, self._lock, self._drawn_geometry,
+                                 lambda: self.scene.vehicle_size)
+        self.handles = Handles(scene, self.session, self.controls, self.refuse, scene_root,
+                               released=self.camera.frame_if_needed)
+        self.overlay = ComparisonOverlay(self.scene, self._lock, self.side,
+                                         self.compare.show_table, self.present)
+        self.replay = IterationReplay(self.scene, self._lock, lambda: self.presentation,
+                                      self._say_replay, self._replay_done)
+        self.session.listeners.append(self)
+        self.on_config(self.session)
+        self.session.auto = True
+        self.session.submit()
+
+    def _build_tabs(self, gui: viser.GuiApi, missions: Sequence[Mission]) -> None:
+        """The Setup, Play, Compare and Export tabs and their panels."""
         tabs = gui.add_tab_group(order=5)
         tab_setup = tabs.add_tab("Setup", viser.Icon.ADJUSTMENTS)
         self.controls = Controls(gui, self.session, missions, order=10, container=tab_setup,
@@ -101,21 +120,6 @@ class View(ViewDrawing):
             self.export = ExportPanel(gui, self.current, self.session.time_limit,
                                       self.session.set_time_limit, self.set_dark,
                                       lambda aspect: self.camera.shot(aspect), self.refuse)
-        self.side = SidePanel(gui, self._redraw)
-        self._build_commands()
-        self.scene = SceneView(scene, dark=self.dark, root=scene_root)
-        self.camera = ViewCamera(self.play, self._lock, self._drawn_geometry,
-                                 lambda: self.scene.vehicle_size)
-        self.handles = Handles(scene, self.session, self.controls, self.refuse, scene_root,
-                               released=self.camera.frame_if_needed)
-        self.overlay = ComparisonOverlay(self.scene, self._lock, self.side,
-                                         self.compare.show_table, self.present)
-        self.replay = IterationReplay(self.scene, self._lock, lambda: self.presentation,
-                                      self._say_replay, self._replay_done)
-        self.session.listeners.append(self)
-        self.on_config(self.session)
-        self.session.auto = True
-        self.session.submit()
 
     def _build_commands(self) -> None:
         play = self.gui.add_command("Play / pause animation", hotkey="space",

@@ -39,6 +39,79 @@ def _finite(f: float, g: np.ndarray) -> bool:
     return bool(np.isfinite(f)) and bool(np.all(np.isfinite(g)))
 
 
+@dataclass(frozen=True)
+class _LineSearch:
+    """The weak-Wolfe line search's constants (see `minimize_bfgs`)."""
+
+    c1: float
+    c2: float
+    max_trials: int
+    f_noise: float
+
+
+_Point = tuple[np.ndarray, float, np.ndarray, float]  # z, f, g and the step t that gave it
+
+
+def _evaluate(fun_and_grad: FunAndGrad, z: np.ndarray) -> tuple[float, np.ndarray]:
+    f, g = fun_and_grad(z)
+    return float(f), np.asarray(g, dtype=float).ravel()
+
+
+def _wolfe_step(fun_and_grad: FunAndGrad, z: np.ndarray, f: float, d: np.ndarray,
+                slope: float, t: float, ls: _LineSearch) -> tuple[_Point | None, int]:
+    """Weak-Wolfe bracketing/bisection along d from z (Lewis & Overton); a non-finite trial
+    point shrinks the step. Returns the accepted point (or, when curvature never holds, the
+    best sufficient-decrease point; None if there is none) and the evaluations spent."""
+    lo, hi = 0.0, np.inf
+    best = None
+    for trial in range(1, ls.max_trials + 1):
+        zt = z + t * d
+        ft, gt = _evaluate(fun_and_grad, zt)
+        finite = _finite(ft, gt)
+        dslope = float(gt @ d) if finite else np.nan
+        armijo = finite and (
+            ft <= f + ls.c1 * t * slope
+            or (ft <= f + ls.f_noise * max(1.0, abs(f)) and dslope <= (2 * ls.c1 - 1) * slope)
+        )
+        if not armijo:
+            hi = t
+        else:
+            if best is None or ft < best[1]:
+                best = (zt, ft, gt, t)
+            if dslope < ls.c2 * slope:
+                lo = t
+            else:
+                return (zt, ft, gt, t), trial
+        t = 0.5 * (lo + hi) if np.isfinite(hi) else 2.0 * lo
+    return best, ls.max_trials
+
+
+def _bfgs_update(H: np.ndarray, s: np.ndarray, y: np.ndarray,
+                 scaled: bool) -> tuple[np.ndarray, bool]:
+    """The inverse-Hessian BFGS update with step s and gradient change y, skipped when the
+    curvature s·y is not safely positive; the first update scales the identity by s·y/y·y."""
+    sy = float(s @ y)
+    if not (sy > 1e-12 * float(np.linalg.norm(s) * np.linalg.norm(y)) and sy > 0.0):
+        return H, scaled
+    if not scaled:
+        H = np.eye(s.size) * (sy / float(y @ y))
+    rho = 1.0 / sy
+    Hy = H @ y
+    H = (H - rho * (np.outer(s, Hy) + np.outer(Hy, s))
+         + (rho * rho * float(y @ Hy) + rho) * np.outer(s, s))
+    return H, True
+
+
+def _descent_direction(H: np.ndarray, g: np.ndarray) -> tuple[np.ndarray, float, bool]:
+    """d = -H g and its slope g·d; if H lost positive definiteness, a restart along -g
+    (the returned flag says whether H is kept)."""
+    d = -H @ g
+    slope = float(g @ d)
+    if slope < 0.0:
+        return d, slope, True
+    return -g, float(g @ -g), False
+
+
 def minimize_bfgs(
     fun_and_grad: FunAndGrad,
     z0,
@@ -66,22 +139,16 @@ def minimize_bfgs(
     `ctx.report` is called every iteration when `report_progress` (else only
     `ctx.checkpoint`), so `Cancelled`/`TimeLimit` propagate.
     """
+    ls = _LineSearch(c1, c2, max_line_search, f_noise)
     z = np.array(z0, dtype=float).ravel()
     n = z.size
-    nev = 0
-    f, g = fun_and_grad(z)
-    f = float(f)
-    g = np.asarray(g, dtype=float).ravel()
-    nev += 1
+    f, g = _evaluate(fun_and_grad, z)
+    nev = 1
     if not _finite(f, g):
         return BFGSResult(z, f, float("inf"), 0, nev, False,
                           "the objective is not finite at the starting point", g, None)
-    if inv_hessian0 is not None:
-        H = np.array(inv_hessian0, dtype=float)
-        scaled = True
-    else:
-        H = np.eye(n)
-        scaled = False
+    scaled = inv_hessian0 is not None
+    H = np.array(inv_hessian0, dtype=float) if scaled else np.eye(n)
     message = f"iteration limit of {max_iter} reached"
     converged = False
     it = 0
@@ -95,64 +162,20 @@ def minimize_bfgs(
                 ctx.report(it, f"BFGS iteration {it}: f = {f:.10g}, |g| = {gnorm:.3g}")
             else:
                 ctx.checkpoint()
-        d = -H @ g
-        slope = float(g @ d)
-        if not slope < 0.0:  # H lost positive definiteness: restart along -g
-            H = np.eye(n)
-            scaled = False
-            d = -g
-            slope = float(g @ d)
-        t = 1.0
-        if max_step is not None:
-            dmax = float(np.max(np.abs(d)))
-            if dmax > max_step:
-                t = max_step / dmax
-        # Weak-Wolfe bracketing/bisection (Lewis & Overton); non-finite points shrink the step.
-        lo, hi = 0.0, np.inf
-        accepted = None
-        best = None  # best Armijo point, a fallback when curvature never holds
-        for _ in range(max_line_search):
-            zt = z + t * d
-            ft, gt = fun_and_grad(zt)
-            ft = float(ft)
-            gt = np.asarray(gt, dtype=float).ravel()
-            nev += 1
-            finite = _finite(ft, gt)
-            dslope = float(gt @ d) if finite else np.nan
-            armijo = finite and (
-                ft <= f + c1 * t * slope
-                or (ft <= f + f_noise * max(1.0, abs(f)) and dslope <= (2 * c1 - 1) * slope)
-            )
-            if not armijo:
-                hi = t
-            else:
-                if best is None or ft < best[1]:
-                    best = (zt, ft, gt, t)
-                if dslope < c2 * slope:
-                    lo = t
-                else:
-                    accepted = (zt, ft, gt, t)
-                    break
-            t = 0.5 * (lo + hi) if np.isfinite(hi) else 2.0 * lo
-        if accepted is None:
-            accepted = best
+        d, slope, kept = _descent_direction(H, g)
+        if not kept:
+            H, scaled = np.eye(n), False
+        dmax = float(np.max(np.abs(d))) if max_step is not None else 0.0
+        t = max_step / dmax if max_step is not None and dmax > max_step else 1.0
+        accepted, spent = _wolfe_step(fun_and_grad, z, f, d, slope, t, ls)
+        nev += spent
         if accepted is None:
             message = "line search failed to find a decrease"
             break
-        z_new, f_new, g_new, t = accepted
-        s = z_new - z
-        y = g_new - g
-        sy = float(s @ y)
+        z_new, f_new, g_new, _ = accepted
+        H, scaled = _bfgs_update(H, z_new - z, g_new - g, scaled)
         f_old = f
         z, f, g = z_new, f_new, g_new
-        if sy > 1e-12 * float(np.linalg.norm(s) * np.linalg.norm(y)) and sy > 0.0:
-            if not scaled:
-                H = np.eye(n) * (sy / float(y @ y))
-                scaled = True
-            rho = 1.0 / sy
-            Hy = H @ y
-            H = (H - rho * (np.outer(s, Hy) + np.outer(Hy, s))
-                 + (rho * rho * float(y @ Hy) + rho) * np.outer(s, s))
         if ftol > 0.0 and f_old - f <= ftol * max(1.0, abs(f)):
             converged, message = True, "relative decrease of f below tolerance"
             break

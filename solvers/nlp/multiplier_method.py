@@ -42,6 +42,39 @@ class MultiplierResult:
     inner_grad_norm: float = float("nan")
 
 
+def _constraints(h_and_jac: HAndJac, z: np.ndarray) -> np.ndarray:
+    return np.atleast_1d(np.asarray(h_and_jac(z)[0], dtype=float))
+
+
+@dataclass
+class _AugmentedLagrangian:
+    """L(z) = J(z) - lam . h(z) + (sigma / 2) |h(z)|^2 and its gradient, with the multipliers
+    and the penalty the outer iterations update; counts its evaluations."""
+
+    f_and_grad: FAndGrad
+    h_and_jac: HAndJac
+    lam: np.ndarray
+    sigma: float
+    evaluations: int = 0
+
+    def __call__(self, z: np.ndarray) -> tuple[float, np.ndarray]:
+        self.evaluations += 1
+        f, g = self.f_and_grad(z)
+        h, jac = self.h_and_jac(z)
+        h = np.atleast_1d(np.asarray(h, dtype=float))
+        jac = np.asarray(jac, dtype=float).reshape(self.lam.size, -1)
+        val = float(f) - float(self.lam @ h) + 0.5 * self.sigma * float(h @ h)
+        grad = np.asarray(g, dtype=float).ravel() + jac.T @ (self.sigma * h - self.lam)
+        return val, grad
+
+
+def _inner_tolerance(inner_gtol: float, h_norm_old: float, adaptive: bool) -> float:
+    """The inner gradient tolerance of an outer iteration: loose while |h| is large."""
+    if adaptive and np.isfinite(h_norm_old):
+        return max(inner_gtol, min(1e-2, 0.1 * h_norm_old))
+    return inner_gtol
+
+
 def solve_multiplier_method(
     f_and_grad: FAndGrad,
     h_and_jac: HAndJac,
@@ -72,73 +105,45 @@ def solve_multiplier_method(
     early subproblems, whose multipliers are still poor, are solved loosely.
     """
     z = np.array(z0, dtype=float).ravel()
-    h0, _ = h_and_jac(z)
-    h0 = np.atleast_1d(np.asarray(h0, dtype=float))
-    m = h0.size
+    h = _constraints(h_and_jac, z)
+    m = h.size
     lam = np.zeros(m) if lam0 is None else np.broadcast_to(np.asarray(lam0, float), (m,)).copy()
     tol = np.broadcast_to(np.asarray(tol_h, dtype=float), (m,))
-    sigma = float(sigma0)
-    evaluations = 0
-
-    def lagrangian(zz: np.ndarray) -> tuple[float, np.ndarray]:
-        nonlocal evaluations
-        evaluations += 1
-        f, g = f_and_grad(zz)
-        h, jac = h_and_jac(zz)
-        h = np.atleast_1d(np.asarray(h, dtype=float))
-        jac = np.asarray(jac, dtype=float).reshape(m, -1)
-        val = float(f) - float(lam @ h) + 0.5 * sigma * float(h @ h)
-        grad = np.asarray(g, dtype=float).ravel() + jac.T @ (sigma * h - lam)
-        return val, grad
-
+    al = _AugmentedLagrangian(f_and_grad, h_and_jac, lam, float(sigma0))
     history: list[tuple[int, np.ndarray]] = [(0, z.copy())]
-    h_norm_old = float(np.max(np.abs(h0))) if np.all(np.isfinite(h0)) else np.inf
-    h = h0
-    inner_total = 0
-    H = None
-    converged = False
-    grad_norm = float("nan")
-    message = ""
-    k = 0
+    h_norm_old = float(np.max(np.abs(h))) if np.all(np.isfinite(h)) else np.inf
+    inner_total, H, converged, grad_norm, message, k = 0, None, False, float("nan"), "", 0
     for k in range(1, max_outer + 1):  # noqa: B007 - `k` is reported after the loop
-        gtol_k = inner_gtol
-        if adaptive_inner and np.isfinite(h_norm_old):
-            gtol_k = max(inner_gtol, min(1e-2, 0.1 * h_norm_old))
-        res = minimize_bfgs(lagrangian, z, ctx=ctx, max_iter=inner_max_iter, gtol=gtol_k,
+        res = minimize_bfgs(al, z, ctx=ctx, max_iter=inner_max_iter,
+                            gtol=_inner_tolerance(inner_gtol, h_norm_old, adaptive_inner),
                             inv_hessian0=H if reuse_hessian else None, max_step=max_step,
                             report_progress=False)
         inner_total += res.iterations
         grad_norm = res.grad_norm
         if not np.isfinite(res.f):
-            message = (f"the multiplier method stopped at outer iteration {k}: "
-                       f"{res.message}")
+            message = f"the multiplier method stopped at outer iteration {k}: {res.message}"
             break
-        z = res.z
-        H = res.inv_hessian
-        h, _ = h_and_jac(z)
-        h = np.atleast_1d(np.asarray(h, dtype=float))
-        f_val = float(f_and_grad(z)[0])
+        z, H = res.z, res.inv_hessian
+        h = _constraints(h_and_jac, z)
         h_norm = float(np.max(np.abs(h)))
         if k <= HISTORY_OUTER:
             history.append((k, z.copy()))
         if ctx is not None:
-            ctx.report(k, f"multiplier iteration {k}: f = {f_val:.10g}, |h| = {h_norm:.3g}, "
-                          f"sigma = {sigma:g}")
-        if np.all(np.abs(h) <= tol) and grad_norm <= 10.0 * inner_gtol:
-            lam = lam - sigma * h
-            converged = True
+            ctx.report(k, f"multiplier iteration {k}: f = {float(f_and_grad(z)[0]):.10g}, "
+                          f"|h| = {h_norm:.3g}, sigma = {al.sigma:g}")
+        converged = bool(np.all(np.abs(h) <= tol) and grad_norm <= 10.0 * inner_gtol)
+        al.lam = al.lam - al.sigma * h
+        if converged:
             message = (f"converged in {k} outer / {inner_total} BFGS iterations, "
                        f"|h| = {h_norm:.3g}")
             break
-        lam = lam - sigma * h
         if h_norm > gamma * h_norm_old:
-            sigma = min(beta * sigma, sigma_max)
+            al.sigma = min(beta * al.sigma, sigma_max)
         h_norm_old = h_norm
     else:
         message = (f"the multiplier method did not converge in {max_outer} outer iterations: "
                    f"|h| = {float(np.max(np.abs(h))):.3g}, inner |grad| = {grad_norm:.3g}")
     if history[-1][0] != k:
         history.append((k, z.copy()))
-    f_final = float(f_and_grad(z)[0])
-    return MultiplierResult(z, f_final, h, lam, sigma, k, inner_total, evaluations, converged,
-                            message, history, grad_norm)
+    return MultiplierResult(z, float(f_and_grad(z)[0]), h, al.lam, al.sigma, k, inner_total,
+                            al.evaluations, converged, message, history, grad_norm)

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from functools import partial
 
 import casadi as ca
 import numpy as np
@@ -95,35 +96,42 @@ def final_time_guess(decl: Declaration, values: dict[str, float]) -> float:
     return ft.guess if isinstance(ft, FreeTime) else resolve(ft, values)
 
 
-def build_ocp(decl: Declaration, traced: Traced) -> OCP:
-    """The OCP the general transcriptions solve (built once per declaration)."""
+def _bounds(decl: Declaration, p: np.ndarray) -> Bounds:
+    """The states', controls' and final time's bounds at the parameter vector p."""
+    v = _values(decl, p)
+    x = np.array([[resolve(b, v) for b in s.bounds] for s in decl.states], float)
+    u = np.array([[resolve(b, v) for b in c.bounds] for c in decl.controls], float)
+    ft = decl.final_time
+    T_lb, T_ub = (ft.lower, ft.upper) if isinstance(ft, FreeTime) else (0.0, math.inf)
+    return Bounds(x_lb=x[:, 0], x_ub=x[:, 1], u_lb=u[:, 0], u_ub=u[:, 1], T_lb=T_lb, T_ub=T_ub)
+
+
+def _guess(decl: Declaration, p: np.ndarray) -> Guess:
+    """The cold start at p, from the file's state and control guesses."""
+    v = _values(decl, p)
+    start, end = guess_states(decl, v)
+    u_start, u_end = guess_controls(decl, v)
+    return Guess(x_final=end, u=u_start, T=final_time_guess(decl, v), x_initial=start,
+                 u_final=u_end)
+
+
+def _scales(decl: Declaration) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The states' offsets and scales and the controls' scales, from the defaults' bounds."""
     defaults = decl.defaults
     scaling = [state_scaling(s, defaults) for s in decl.states]
-    x_offset = np.array([o for o, _ in scaling])
-    x_scale = np.array([s for _, s in scaling])
     u_scale = np.array([bound_scale(c.scale, *(resolve(b, defaults) for b in c.bounds))
                         for c in decl.controls])
+    return np.array([o for o, _ in scaling]), np.array([s for _, s in scaling]), u_scale
+
+
+def build_ocp(decl: Declaration, traced: Traced) -> OCP:
+    """The OCP the general transcriptions solve (built once per declaration)."""
+    x_offset, x_scale, u_scale = _scales(decl)
     sign = -1.0 if decl.maximize else 1.0
     fixed_start = [i for i, s in enumerate(decl.states) if s.initial is not None]
     fixed_end = [i for i, s in enumerate(decl.states) if s.final is not None]
     pinned = len(fixed_start) == len(decl.states)
     free_time = isinstance(decl.final_time, FreeTime)
-
-    def bounds(p: np.ndarray) -> Bounds:
-        v = _values(decl, p)
-        x = np.array([[resolve(b, v) for b in s.bounds] for s in decl.states], float)
-        u = np.array([[resolve(b, v) for b in c.bounds] for c in decl.controls], float)
-        ft = decl.final_time
-        T_lb, T_ub = (ft.lower, ft.upper) if isinstance(ft, FreeTime) else (0.0, math.inf)
-        return Bounds(x_lb=x[:, 0], x_ub=x[:, 1], u_lb=u[:, 0], u_ub=u[:, 1],
-                      T_lb=T_lb, T_ub=T_ub)
-
-    def guess(p: np.ndarray) -> Guess:
-        v = _values(decl, p)
-        start, end = guess_states(decl, v)
-        u_start, u_end = guess_controls(decl, v)
-        return Guess(x_final=end, u=u_start, T=final_time_guess(decl, v), x_initial=start,
-                     u_final=u_end)
 
     def initial_state(p: ca.SX) -> ca.SX:
         return ca.vertcat(*[symbolic(s.initial, decl, p) for s in decl.states])
@@ -145,7 +153,6 @@ def build_ocp(decl: Declaration, traced: Traced) -> OCP:
         return sign * (value + (T if decl.minimum_time else 0.0))
 
     path_scale = np.array([bound_scale(c.scale, c.lower, c.upper) for c in decl.path])
-    ft = decl.final_time
     return OCP(
         states=decl.state_names,
         controls=decl.control_names,
@@ -153,12 +160,12 @@ def build_ocp(decl: Declaration, traced: Traced) -> OCP:
         control_units=tuple(c.unit for c in decl.controls),
         n_params=len(decl.params),
         dynamics=lambda x, u, p: traced.f(x, u, p),
-        bounds=bounds,
-        guess=guess,
+        bounds=partial(_bounds, decl),
+        guess=partial(_guess, decl),
         x_scale=x_scale,
         x_offset=x_offset,
         u_scale=u_scale,
-        T_scale=final_time_guess(decl, defaults),
+        T_scale=final_time_guess(decl, decl.defaults),
         initial_state=initial_state if pinned else None,
         terminal=terminal if fixed_end else None,
         terminal_scale=x_scale[fixed_end],
@@ -167,7 +174,7 @@ def build_ocp(decl: Declaration, traced: Traced) -> OCP:
         mayer=mayer if (traced.mayer is not None or decl.minimum_time) else None,
         lagrange=(None if traced.lagrange is None
                   else lambda x, u, p: sign * traced.lagrange(x, u, p)),
-        fixed_final_time=None if free_time else (lambda p: symbolic(ft, decl, p)),
+        fixed_final_time=None if free_time else (lambda p: symbolic(decl.final_time, decl, p)),
         path=(None if traced.path is None
               else lambda x, u, p: traced.path(x, u, p) / ca.DM(path_scale)),
         path_lb=np.array([c.lower for c in decl.path]) / path_scale,

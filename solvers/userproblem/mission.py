@@ -113,6 +113,10 @@ class UserMission(Mission):
         self.consistency = consistency
         self.cost_label, self.cost_unit = cost_label, cost_unit
         self.handles, self.shapes = tuple(handles), tuple(shapes)  # dragged in the 3D view
+        self._check_and_build(where)
+
+    def _check_and_build(self, where: str) -> None:
+        """Check the file's records (each refusal names its line) and build its OCP once."""
         self._check_records(where)
         check(self.declaration)
         self._traced = trace(self.declaration)
