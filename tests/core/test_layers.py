@@ -1,7 +1,7 @@
 """The house rules of DESIGN.md's layer picture, read from the source: no import cycle among
 the project's modules (counting imports inside functions and under TYPE_CHECKING), and no
-module of `solvers/` or `explorer/` over 400 lines, and no module outside `explorer/panels/`
-reaching into a panel's widgets."""
+module of `solvers/` or `explorer/` over 400 lines, at most 3 functions over 60 lines (issue
+18), and no module outside `explorer/panels/` reaching into a panel's widgets."""
 
 from __future__ import annotations
 
@@ -11,6 +11,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 PACKAGES = ("solvers", "explorer")
 MAX_LINES = 400
+LONG_FUNCTION = 60  # lines, signature and docstring included
+MAX_LONG_FUNCTIONS = 3
 
 
 def _modules() -> dict[str, Path]:
@@ -89,6 +91,15 @@ def test_no_module_is_over_400_lines() -> None:
     long = {name: n for name, path in _modules().items()
             if (n := len(path.read_text().splitlines())) > MAX_LINES}
     assert not long, long
+
+
+def test_at_most_three_functions_are_over_60_lines() -> None:
+    long = [f"{path.relative_to(ROOT)}:{node.lineno} {node.name} ({length} lines)"
+            for path in _modules().values()
+            for node in ast.walk(ast.parse(path.read_text()))
+            if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef)
+            and (length := node.end_lineno - node.lineno + 1) > LONG_FUNCTION]
+    assert len(long) <= MAX_LONG_FUNCTIONS, long
 
 
 PANELS = ("play", "trust", "compare", "status", "side", "controls", "export", "room")
