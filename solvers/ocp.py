@@ -8,6 +8,12 @@ Bolza form on t in [t0, t0 + T]:
          bounds on x, u, T, t0 and the static variables s,
          path_lb <= path(x, u, p) <= path_ub at the nodes.
 
+Where every path row is a second-order cone, `path_cones` states it: a list of (v, t), row j
+of `path` being |v_j|² - t_j² <= 0 with t_j >= 0, i.e. |v_j| <= t_j, v_j and t_j affine in
+(x, u). The NLP methods ignore it; successive convexification keeps those cones exact in its
+convex subproblems instead of linearising the rows (Mao, Szmuk & Açıkmeşe 2016 linearise only
+the nonconvex constraints; a linearised cone is degenerate at its apex, where a coast sits).
+
 The initial time t0 is 0 unless `free_initial_time` (e.g. a launch date); `statics` name
 decision variables that do not depend on time (e.g. a departure v-infinity). The dynamics are
 autonomous: t0 enters only through the boundary functions.
@@ -106,6 +112,7 @@ class OCP:
     path: Callable[[Expr, Expr, Expr], Expr] | None = None
     path_lb: np.ndarray = field(default_factory=_none)
     path_ub: np.ndarray = field(default_factory=_none)
+    path_cones: Callable[[Expr, Expr, Expr], list[tuple[Expr, Expr]]] | None = None
     free_initial_time: bool = False
     t0_scale: float = 1.0
     statics: tuple[str, ...] = ()

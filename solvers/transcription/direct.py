@@ -87,6 +87,7 @@ class DirectTranscription(ABC):
         if ocp.path is not None:
             Xp, Up = self._path_points(X, U)
             self.path_points = int(Xp.shape[1])
+            self._path_symbols = (Xp, Up, p)  # where an iterative method re-reads the path
             path = ca.horzcat(*[ocp.path(Xp[:, k], Up[:, k], p)
                                 for k in range(self.path_points)])
             self.n_path = int(path.size1())

@@ -14,19 +14,25 @@ impossible, named.
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 import solvers
 from solvers.context import SolveContext
+from solvers.dynamics.clohessy_wiltshire import mean_motion
 from solvers.methods import SCVX
+from solvers.missions.cw_rendezvous.model import PrimerVectorShooting
 from solvers.missions.powered_descent import problem
 from solvers.missions.powered_descent.lossless import descent_socp, solve_lossless
 from solvers.missions.powered_descent.model import P_RHO1, P_RHO2, parameter_vector
 from solvers.missions.powered_descent.switch_mesh import SHORT, switch_mesh, switch_times
+from solvers.registry import load_mission_files
 from solvers.transcription import direct_transcription
 
 KEY = "powered-descent"
+KEEP_OUT = Path(__file__).parents[2] / "examples" / "keep_out_rendezvous.py"
 
 
 def test_three_methods_agree_on_the_fuel_within_a_tenth_of_a_percent(solved) -> None:
@@ -238,3 +244,30 @@ def test_scvx_reaches_the_hovercraft_optimum() -> None:
     # The maximum principle's minimum time T* = 2.4954276 s (README, hovercraft).
     assert scvx == pytest.approx(2.4954276, rel=1e-6)
     assert scvx == pytest.approx(ipopt, rel=1e-7)
+
+
+def test_scvx_reaches_the_cw_free_structure_optimum(solved) -> None:
+    """The L1 cost's |u| <= s is a second-order cone; SCvx keeps it exact (Mao et al. 2016,
+    convex constraints are not linearised). No published burn time: the reference is
+    primer-vector shooting on the costate (no control discretisation), seeded from the
+    paper method's thrust direction, as in test_cw_rendezvous."""
+    scvx, ipopt = _scvx_solve("cw-rendezvous")
+    assert scvx == pytest.approx(ipopt, rel=1e-5)
+    paper = solved("cw-rendezvous", "paper", None, {})
+    v = paper.values
+    x0 = np.array([v[k] for k in ("x0", "y0", "z0", "vx0", "vy0", "vz0")])
+    shooting = PrimerVectorShooting(x0, mean_motion(v["altitude"]), v["accel"],
+                                    v["total_time"], [0, 1, 3, 4])
+    exact = shooting.solve(shooting.initial_costate(paper.node_t, paper.node_u / v["accel"],
+                                                    paper.arcs[0][1]))
+    assert exact.converged
+    assert scvx == pytest.approx(exact.burn_time, rel=1e-4)
+
+
+def test_scvx_reaches_the_keep_out_optimum() -> None:
+    """The gallery's keep-out rendezvous: a nonconvex clearance path constraint active on an
+    arc. No published optimum: the check is IPOPT on the same Hermite-Simpson NLP."""
+    errors = load_mission_files([str(KEEP_OUT)])
+    assert not errors, errors
+    scvx, ipopt = _scvx_solve("keep-out-rendezvous")
+    assert scvx == pytest.approx(ipopt, rel=1e-6)

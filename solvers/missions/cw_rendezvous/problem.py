@@ -153,6 +153,7 @@ def free_ocp() -> OCP:
         fixed_final_time=lambda p: p[P_T],
         path=lambda x, u, p: ca.sumsqr(u[:3]) - u[3] ** 2,
         path_lb=np.array([-np.inf]), path_ub=np.array([0.0]),
+        path_cones=lambda x, u, p: [(u[:3], u[3])],  # the same row as the cone |a| <= s
     )
 
 
