@@ -63,7 +63,9 @@ class Bounds:
 @dataclass(frozen=True)
 class Guess:
     """A cold-start guess: states linear from x(0) to `x_final` (from `x_initial` when the
-    initial state is free), controls linear from `u` to `u_final` (None: constant `u`)."""
+    initial state is free), controls constant `u`; `x_path` / `u_path`, when given, give the
+    states / controls at normalised times tau in [0, 1] instead (rows: times), so a guess
+    may vary in time (a ramp, a thrust angle that turns through the flight)."""
 
     x_final: np.ndarray
     u: np.ndarray
@@ -71,7 +73,20 @@ class Guess:
     x_initial: np.ndarray | None = None
     t0: float = 0.0
     statics: np.ndarray = field(default_factory=_none)
-    u_final: np.ndarray | None = None
+    x_path: Callable[[np.ndarray], np.ndarray] | None = None
+    u_path: Callable[[np.ndarray], np.ndarray] | None = None
+
+    def states(self, tau: np.ndarray, x0: np.ndarray) -> np.ndarray:
+        """(len(tau), nx) states at normalised times tau; `x0` starts the straight line."""
+        if self.x_path is not None:
+            return np.asarray(self.x_path(tau), float).reshape(len(tau), -1)
+        return x0 + np.outer(tau, np.asarray(self.x_final, float) - x0)
+
+    def controls(self, tau: np.ndarray) -> np.ndarray:
+        """(len(tau), nu) controls at normalised times tau."""
+        if self.u_path is not None:
+            return np.asarray(self.u_path(tau), float).reshape(len(tau), -1)
+        return np.tile(np.asarray(self.u, float), (len(tau), 1))
 
 
 @dataclass(frozen=True)

@@ -200,11 +200,8 @@ class DirectTranscription(ABC):
         guess = self.ocp.guess(p)
         start = np.asarray(guess.x_initial if guess.x_initial is not None else guess.x_final,
                            float)
-        x0 = self.initial_state(p, start)
-        X = x0 + np.outer(tau, np.asarray(guess.x_final) - x0)
-        u0 = np.asarray(guess.u, float)
-        u1 = u0 if guess.u_final is None else np.asarray(guess.u_final, float)
-        U = u0 + np.outer(tau, u1 - u0)
+        X = guess.states(tau, self.initial_state(p, start))
+        U = guess.controls(tau)
         T = guess.T if self.free_T else float(self.fn.fixed_T(p))
         return self._pack(X, U, T, guess.t0, guess.statics)
 

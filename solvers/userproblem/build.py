@@ -1,5 +1,6 @@
 """The `OCP` of a declaration: scales (from the bounds when not given), bounds and the
-cold-start guess as functions of the parameter vector, boundary conditions and the cost.
+cold-start guess (`guesses`) as functions of the parameter vector, boundary conditions and
+the cost.
 
 Fixed final states become the OCP's terminal conditions; an initial state fixed in full is
 pinned by the variable bounds; a partly fixed initial state and the final constraints become
@@ -18,6 +19,7 @@ import numpy as np
 from ..ocp import OCP, BoundaryPoint, Bounds, Guess
 from .declaration import Declaration, resolve
 from .functions import Traced
+from .guesses import ENDS, control_guess, state_guess
 from .records import FreeTime, State, Value
 
 
@@ -44,51 +46,13 @@ def state_scaling(s: State, defaults: dict[str, float]) -> tuple[float, float]:
     if math.isfinite(lo) and math.isfinite(hi):
         return (lo + hi) / 2, (hi - lo) / 2
     ends = [resolve(v, defaults) for v in (s.initial, s.final) if v is not None]
-    return 0.0, _magnitude([lo, hi, *ends, s.guess or 0.0])
+    guess = [] if s.guess is None or callable(s.guess) else [s.guess]
+    return 0.0, _magnitude([lo, hi, *ends, *guess])
 
 
 def bound_scale(scale: float | None, lower: float, upper: float) -> float:
     """A control's or constraint's scale: its own, else the largest finite bound, else 1."""
     return float(scale) if scale is not None else _magnitude([lower, upper])
-
-
-def _mid(lo: float, hi: float) -> float:
-    """A cold-start value inside [lo, hi]: the centre, or the finite bound, or 0."""
-    if math.isfinite(lo) and math.isfinite(hi):
-        return (lo + hi) / 2
-    return float(np.clip(0.0, lo, hi))
-
-
-def guess_states(decl: Declaration, values: dict[str, float]) -> tuple[np.ndarray, np.ndarray]:
-    """(start, end) of the cold-start guess: fixed values where given, else `guess`, else
-    the other end's fixed value, else mid-range."""
-    start, end = [], []
-    for s in decl.states:
-        lo, hi = (resolve(b, values) for b in s.bounds)
-        init = None if s.initial is None else resolve(s.initial, values)
-        fin = None if s.final is None else resolve(s.final, values)
-        free = s.guess if s.guess is not None else _mid(lo, hi)
-        start.append(init if init is not None else (free if fin is None else fin))
-        end.append(fin if fin is not None else (s.guess if s.guess is not None
-                                                 else (init if init is not None else free)))
-    return np.array(start, float), np.array(end, float)
-
-
-def guess_controls(decl: Declaration, values: dict[str, float]
-                   ) -> tuple[np.ndarray, np.ndarray]:
-    """(start, end) of the controls' cold-start guess, linear in time between them: a
-    control's `guess` pair, or its one number at both ends, else mid-range."""
-    ends = []
-    for c in decl.controls:
-        if c.guess is None:
-            value = _mid(*(resolve(b, values) for b in c.bounds))
-            ends.append((value, value))
-        elif isinstance(c.guess, (tuple, list)):
-            ends.append(tuple(c.guess))
-        else:
-            ends.append((c.guess, c.guess))
-    pairs = np.array(ends, float).reshape(len(decl.controls), 2)
-    return pairs[:, 0], pairs[:, 1]
 
 
 def final_time_guess(decl: Declaration, values: dict[str, float]) -> float:
@@ -107,12 +71,13 @@ def _bounds(decl: Declaration, p: np.ndarray) -> Bounds:
 
 
 def _guess(decl: Declaration, p: np.ndarray) -> Guess:
-    """The cold start at p, from the file's state and control guesses."""
+    """The cold start at p: the file's state and control guesses as functions of the
+    normalised time, sampled on each method's grid."""
     v = _values(decl, p)
-    start, end = guess_states(decl, v)
-    u_start, u_end = guess_controls(decl, v)
-    return Guess(x_final=end, u=u_start, T=final_time_guess(decl, v), x_initial=start,
-                 u_final=u_end)
+    X = state_guess(decl, v, ENDS)
+    return Guess(x_final=X[-1], u=control_guess(decl, v, ENDS)[0],
+                 T=final_time_guess(decl, v), x_initial=X[0],
+                 x_path=partial(state_guess, decl, v), u_path=partial(control_guess, decl, v))
 
 
 def _scales(decl: Declaration) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -67,6 +67,29 @@ class Declaration:
         return DeclarationError(message, where or self.where)
 
 
+# One turn in each angle unit a control may be declared in.
+TURNS = {"rad": 2 * math.pi, "radian": 2 * math.pi, "radians": 2 * math.pi, "deg": 360.0,
+         "degree": 360.0, "degrees": 360.0, "°": 360.0}
+
+
+def winding_angles(decl: Declaration) -> list[tuple[str, str]]:
+    """(warning, 'file:line') for each angle control (unit rad or deg) whose bounds span more
+    than one turn at the parameters' defaults: φ and φ + 2π steer alike, so the angle can
+    wind and the optimum may not be unique (the NLP may end on another branch)."""
+    found = []
+    for c in decl.controls:
+        turn = TURNS.get(c.unit.strip().lower())
+        lo, hi = (resolve(b, decl.defaults) for b in c.bounds)
+        if turn is None or not hi - lo > turn * (1 + 1e-9):
+            continue
+        span = "unbounded" if not math.isfinite(hi - lo) else f"{(hi - lo) / turn:.3g} turns"
+        found.append((f"control '{c.name}': bounds [{lo:g}, {hi:g}] {c.unit} span {span}: "
+                      f"the angle can wind ({c.name} and {c.name} + {turn:g} {c.unit} steer "
+                      f"alike), so the optimum may not be unique; bound it to one turn "
+                      f"around where it runs", c.where))
+    return found
+
+
 def resolve(value: Value, values: Mapping[str, float]) -> float:
     """A number as it stands, or the value of the parameter it names."""
     return float(values[value]) if isinstance(value, str) else float(value)
@@ -90,17 +113,6 @@ def _check_control(c: Control, defaults: Mapping[str, float]) -> None:
     if not lo < hi:
         raise DeclarationError(f"control '{c.name}': bounds [{lo:g}, {hi:g}] are empty",
                                c.where)
-    if c.guess is None:
-        return
-    ends = tuple(c.guess) if isinstance(c.guess, (tuple, list)) else (c.guess,)
-    if len(ends) not in (1, 2) or not all(
-            isinstance(v, (int, float)) and math.isfinite(v) for v in ends):
-        raise DeclarationError(f"control '{c.name}': guess must be a finite number or a pair "
-                               f"(start, end) of them, not {c.guess!r}", c.where)
-    outside = [v for v in ends if not lo <= v <= hi]
-    if outside:
-        raise DeclarationError(f"control '{c.name}': guess {outside[0]:g} is outside its "
-                               f"bounds [{lo:g}, {hi:g}]", c.where)
 
 
 def _check_names(decl: Declaration) -> None:

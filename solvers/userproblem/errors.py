@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import sys
 import traceback
+import warnings
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -51,6 +52,16 @@ def refine(where: str, finder: Callable[[Path, int], int | None]) -> str:
         return where
     found = finder(Path(name), int(line))
     return f"{name}:{found}" if found else where
+
+
+def warn_at(message: str, where: str) -> None:
+    """A `UserWarning` shown at 'file:line' of the user's file (where the faulty record is
+    declared), not at a line of this package."""
+    name, _, line = where.rpartition(":")
+    if name and line.isdigit():
+        warnings.warn_explicit(message, UserWarning, name, int(line))
+    else:
+        warnings.warn(message, UserWarning, stacklevel=2)
 
 
 def function_location(fn: Callable[..., Any]) -> str:

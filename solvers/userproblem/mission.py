@@ -24,12 +24,13 @@ from ..problem import Consistency, Method, Param, Preset, Published
 from ..shapes import Shape
 from ..solution import Quantity, Solution
 from . import view
-from .build import build_ocp, guess_controls, guess_states, parameter_vector
-from .declaration import Declaration, check, resolve
-from .errors import DeclarationError, caller_location, function_location
+from .build import build_ocp, parameter_vector
+from .declaration import Declaration, check, resolve, winding_angles
+from .errors import DeclarationError, caller_location, function_location, warn_at
 from .fixed_ends import broken_at_fixed_end, state_only_rows
 from .functions import check_finite, trace
-from .misses import check_names, final_misses, screen_labels
+from .guesses import ENDS, check_guesses, control_guess, state_guess
+from .misses import accuracy_targets, check_names, final_misses, screen_labels, targets_markdown
 from .records import Control, FinalConstraint, FreeTime, PathConstraint, State
 
 DEFAULT_METHODS = (HERMITE_SIMPSON, LGL, MULTIPLE_SHOOTING)
@@ -42,7 +43,7 @@ def _check_position(decl: Declaration) -> None:
     if not callable(decl.position):
         return
     values = decl.defaults
-    states = np.vstack(guess_states(decl, values))
+    states = state_guess(decl, values, ENDS)
     path = view._positions(decl, states, parameter_vector(decl, values))
     if not np.all(np.isfinite(path)):
         row = int(np.flatnonzero(~np.all(np.isfinite(path), axis=1))[0])
@@ -62,6 +63,10 @@ class UserMission(Mission):
     Raises `DeclarationError` (one line: "file:line: what is wrong") when the declaration
     cannot be solved: the dynamics are built once symbolically here, so a wrong size, an
     unknown name or a bound that excludes the initial state is found when the file loads.
+    `tolerances` are the file's accuracy targets, and for every miss it gives none 1e-5 of
+    the miss's scale (`misses.default_targets`); `warnings` says what loads but may mislead
+    (an angle control bounded to more than one turn): in the About text, and as a
+    `UserWarning` at its line when the file loads.
     """
 
     def __init__(
@@ -109,7 +114,7 @@ class UserMission(Mission):
         self.params = tuple(params)
         self.methods = tuple(methods)
         self.published, self.presets, self.equations = published, presets, equations
-        self.tolerances = dict(tolerances or {})
+        self.tolerances = dict(tolerances or {})  # the file's; defaults added below
         self.consistency = consistency
         self.cost_label, self.cost_unit = cost_label, cost_unit
         self.handles, self.shapes = tuple(handles), tuple(shapes)  # dragged in the 3D view
@@ -118,17 +123,25 @@ class UserMission(Mission):
     def _check_and_build(self, where: str) -> None:
         """Check the file's records (each refusal names its line) and build its OCP once."""
         self._check_records(where)
-        check(self.declaration)
-        self._traced = trace(self.declaration)
-        self._state_rows = state_only_rows(self.declaration, self._traced)
         decl, values = self.declaration, self.declaration.defaults
-        check_finite(self._traced, decl, *guess_states(decl, values),
-                     guess_controls(decl, values)[0], parameter_vector(decl, values))
-        self._ocp = build_ocp(self.declaration, self._traced)
-        self._structure = self.declaration.structure()  # tells warm starts that fit
-        check_names(self, self.declaration, where)
-        self.labels = screen_labels(self.declaration)
-        _check_position(self.declaration)
+        check(decl)
+        check_guesses(decl)
+        self._traced = trace(decl)
+        self._state_rows = state_only_rows(decl, self._traced)
+        states = state_guess(decl, values, ENDS)
+        check_finite(self._traced, decl, states[0], states[-1],
+                     control_guess(decl, values, ENDS)[0], parameter_vector(decl, values))
+        self._ocp = build_ocp(decl, self._traced)
+        self._structure = decl.structure()  # tells warm starts that fit
+        check_names(self, decl, where)
+        self.given_tolerances = dict(self.tolerances)
+        self.tolerances = accuracy_targets(decl, self.given_tolerances)
+        self.labels = screen_labels(decl)
+        _check_position(decl)
+        winding = winding_angles(decl)
+        self.warnings = tuple(message for message, _ in winding)  # shown in the About text
+        for message, at in winding:
+            warn_at(message, at)
 
     def _check_records(self, where: str) -> None:
         if not self.key or set(self.key) - KEY_CHARACTERS:
@@ -202,4 +215,6 @@ class UserMission(Mission):
 
     @property
     def help(self) -> str:
-        return view.help_markdown(self, self.declaration, self.notes)
+        return view.help_markdown(self, self.declaration, self.notes,
+                                  targets_markdown(self.declaration, self.given_tolerances),
+                                  self.warnings)

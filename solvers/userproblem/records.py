@@ -18,6 +18,7 @@ import numpy as np
 from .errors import caller_location
 
 Value = float | str  # a number, or the key of a parameter
+GuessFn = Callable[[float, "Named"], float]  # guess(tau, p): tau in [0, 1], p by name
 INF = math.inf
 
 
@@ -68,8 +69,11 @@ def _located(record: object) -> None:
 @dataclass(frozen=True)
 class State:
     """A state. `initial`/`final`: a value, a parameter key, or None (free). `guess`: the
-    cold-start value where the state is free (default: its initial value). `scale`: the
-    magnitude the NLP divides by (default: from the bounds, else from the values)."""
+    cold-start value where the state is free, or a function `guess(tau, p)` of the
+    normalised time tau in [0, 1] and the parameters by name giving the whole cold start
+    (default: the straight line between fixed initial and final values, else the fixed
+    value). `scale`: the magnitude the NLP divides by (default: from the bounds, else from
+    the values); the default accuracy target of a fixed final value is 1e-5 of it."""
 
     name: str
     unit: str = ""
@@ -77,7 +81,7 @@ class State:
     initial: Value | None = None
     final: Value | None = None
     scale: float | None = None
-    guess: float | None = None
+    guess: float | GuessFn | None = None
     label: str = ""
     where: str = field(default="", init=False, repr=False, compare=False)
 
@@ -89,13 +93,14 @@ class State:
 class Control:
     """A control with its bounds, scale and cold-start value: a number (constant), a pair
     (start, end): linear in time from the first at the initial time to the second at the
-    final time (a thrust angle that turns through the flight), or None (mid-range)."""
+    final time (a thrust angle that turns through the flight), a function `guess(tau, p)` of
+    the normalised time tau in [0, 1] and the parameters by name, or None (mid-range)."""
 
     name: str
     unit: str = ""
     bounds: tuple[Value, Value] = (-INF, INF)
     scale: float | None = None
-    guess: float | tuple[float, float] | None = None  # a list [start, end] too
+    guess: float | tuple[float, float] | GuessFn | None = None  # a list [start, end] too
     label: str = ""
     where: str = field(default="", init=False, repr=False, compare=False)
 

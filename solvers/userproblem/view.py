@@ -5,6 +5,7 @@ path constraint, and a help page generated from the declaration."""
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -12,7 +13,7 @@ from .. import palette
 from ..mission import Mission, published_markdown
 from ..presentation import Marker, PlotSeries, Presentation, plot_axes
 from ..solution import Solution
-from .build import guess_states, parameter_vector
+from .build import parameter_vector
 from .declaration import Declaration
 from .errors import DeclarationError, call_user, function_location
 from .functions import Traced
@@ -41,13 +42,6 @@ def _positions(decl: Declaration, x: np.ndarray, p: np.ndarray) -> np.ndarray:
     out = np.zeros((len(cols[0]), 3))
     out[:, : len(cols)] = np.column_stack(cols)
     return out
-
-
-def check_position(decl: Declaration) -> None:
-    """A position function is run once on the cold-start guess (load-time check)."""
-    if callable(decl.position):
-        values = decl.defaults
-        _positions(decl, np.vstack(guess_states(decl, values)), parameter_vector(decl, values))
 
 
 def _frame(decl: Declaration) -> tuple[str, str]:
@@ -139,8 +133,10 @@ def _value(v: object) -> str:
     return f"`{v}`" if isinstance(v, str) else f"{v:g}"
 
 
-def help_markdown(mission: Mission, decl: Declaration, notes: str = "") -> str:
-    """The About text: summary, source, the declaration as tables, notes, published numbers."""
+def help_markdown(mission: Mission, decl: Declaration, notes: str = "", targets: str = "",
+                  warnings: Sequence[str] = ()) -> str:
+    """The About text: summary, source, the declaration as tables, the accuracy targets'
+    line, warnings, notes, published numbers."""
     lines = [mission.summary, ""] if mission.summary else []
     if mission.source:
         lines += [f"*Source:* {mission.source}", ""]
@@ -163,6 +159,10 @@ def help_markdown(mission: Mission, decl: Declaration, notes: str = "") -> str:
         lines.append(f"- path constraint {c.name} {_range(c.lower, c.upper)} {c.unit}")
     for c in decl.final:
         lines.append(f"- final constraint {c.name} {_range(c.lower, c.upper)} {c.unit}")
+    if targets:
+        lines += ["", targets]
+    for warning in warnings:
+        lines += ["", f"**Warning:** {warning}."]
     if notes:
         lines += ["", notes]
     if mission.published:

@@ -5,11 +5,13 @@ line; the command line lists, solves and sweeps it."""
 from __future__ import annotations
 
 import json
+import math
 import pickle
 import re
 import subprocess
 import sys
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -232,6 +234,143 @@ def test_a_control_guess_pair_is_a_ramp_from_the_first_to_the_last_node():
         np.testing.assert_allclose(np.ravel(U), -0.5 + 1.25 * t.tau, atol=1e-12)
 
 
+def _cold_start(mission: UserMission, kind: str, nodes: int = 8
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(tau, X, U) of a direct method's cold start at the mission's defaults."""
+    from solvers.transcription import direct_transcription
+
+    values = mission.defaults(kind)
+    p = mission.parameter_vector(values)
+    t = direct_transcription(kind, mission.ocp(mission.method(kind), values), nodes)
+    X, U = t._unpack(t._cold_guess(p, t.tau), p)[:2]
+    return t.tau, X, U
+
+
+def test_a_guess_function_of_time_seeds_every_direct_method():
+    """Issue 17: a guess could be a number or a control's ramp only. `guess=lambda tau, p:`
+    gives a state or a control as a function of the normalised time, the parameters by name;
+    every direct method samples it on its own cold-start grid."""
+    from solvers.userproblem import Param
+
+    m = UserMission(key="bump", title="t",
+                    params=(Param("height", "height", "m", 0.5, 0.1, 1.0, 0.1),),
+                    states=(State("x", "m", bounds=(-2, 2), initial=0.0, final=0.0,
+                                  guess=lambda tau, p: p.height * math.sin(math.pi * tau)),),
+                    controls=(Control("u", "m/s", bounds=(-5, 5),
+                                      guess=lambda tau, p: p.height * math.pi
+                                      * math.cos(math.pi * tau)),),
+                    dynamics=lambda x, u, p: [u.u], final_time=1.0,
+                    lagrange=lambda x, u, p: u.u**2)
+    for kind in ("hermite-simpson", "multiple-shooting", "lgl"):
+        tau, X, U = _cold_start(m, kind)
+        np.testing.assert_allclose(X[:, 0], 0.5 * np.sin(np.pi * tau), atol=1e-12)
+        np.testing.assert_allclose(U[:, 0], 0.5 * np.pi * np.cos(np.pi * tau), atol=1e-12)
+
+
+def test_a_state_fixed_at_both_ends_starts_on_the_straight_line():
+    """Without a guess, a state whose initial and final values are fixed (a number, a
+    parameter key) is cold-started on the line between them; one with a free end at its
+    fixed value, one with a number guess from its fixed start to the guess. (Already the
+    behaviour before issue 17's guess functions: this pins it.)"""
+    from solvers.userproblem import Param
+
+    m = UserMission(key="line", title="t",
+                    params=(Param("target", "target", "m", 3.0, 1.0, 5.0, 0.5),),
+                    states=(State("x", "m", bounds=(-10, 10), initial=-1.0, final="target"),
+                            State("y", "m", bounds=(-10, 10), initial=2.0),
+                            State("z", "m", bounds=(-10, 10), initial=1.0, guess=4.0)),
+                    controls=(Control("u", bounds=(-5, 5)),),
+                    dynamics=lambda x, u, p: [u.u, u.u, u.u], final_time=1.0,
+                    lagrange=lambda x, u, p: u.u**2)
+    for kind in ("hermite-simpson", "multiple-shooting", "lgl"):
+        tau, X, _ = _cold_start(m, kind)
+        np.testing.assert_allclose(X, np.column_stack([-1.0 + 4.0 * tau, np.full_like(tau, 2.0),
+                                                       1.0 + 3.0 * tau]), atol=1e-12)
+
+
+@pytest.mark.parametrize(("guess", "message"), [
+    ("1 / (tau - tau)", "control 'a': guess at tau = 0: ZeroDivisionError: float division by "
+                        "zero"),
+    ("p.gain * tau", "control 'a': guess at tau = 0: unknown parameter 'gain' (parameters: "
+                     "none)"),
+    ('float("nan") + tau', "control 'a': guess at tau = 0 is not finite (nan)"),
+    ("[tau, tau]", "control 'a': guess at tau = 0 returns a list of shape (2,), not one number"),
+    ("2 * tau", "control 'a': guess 1.1 at tau = 0.55 is outside its bounds [-1, 1]"),
+])
+def test_a_bad_guess_function_is_refused_at_its_line(tmp_path, guess, message):
+    """A guess function runs on a grid at load: one that raises, returns anything but one
+    finite number or leaves the bounds is refused at the line of its `guess=`."""
+    path = _file(tmp_path, GOOD.replace(
+        'controls=(Control("a", "m/s²", bounds=(-1, 1)),),',
+        f'controls=(Control("a", "m/s²", bounds=(-1, 1),\n'
+        f'                  guess=lambda tau, p: {guess}),),'))
+    assert _error(path) == f"{path}:{_line_of(path, 'guess=')}: {message}"
+
+
+def test_a_state_guess_function_outside_the_bounds_is_refused(tmp_path):
+    path = _file(tmp_path, GOOD.replace(
+        'State("v", "m/s", bounds=(-10, 10), initial=0.0, final=0.0)',
+        'State("v", "m/s", bounds=(-10, 10), initial=0.0, final=0.0,\n'
+        '                  guess=lambda tau, p: 20 * tau)'))
+    assert _error(path) == (f"{path}:{_line_of(path, 'guess=')}: state 'v': guess 11 at tau "
+                            "= 0.55 is outside its bounds [-10, 10]")
+
+
+def _tiny(**kwargs) -> UserMission:
+    """A rest-to-rest hop whose final position is a fixed state, its stop a final constraint."""
+    return UserMission(
+        key="tiny", title="t",
+        states=(State("x", "m", bounds=(-10, 30), initial=0.0, final=1.0),
+                State("v", "m/s", scale=4.0, initial=0.0)),
+        controls=(Control("a", "m/s²", bounds=(-1, 1)),),
+        final=(FinalConstraint("stop", lambda xf, p: xf.v, unit="m/s", scale=0.5),),
+        dynamics=lambda x, u, p: [x.v, u.a], final_time=FreeTime(2.0), minimum_time=True,
+        **kwargs)
+
+
+def test_accuracy_targets_default_to_the_scales():
+    """Issue 17: without `tolerances` a solution was `optimal` whatever it missed (a
+    fixed-time transfer by 0.097 in radial speed). Each miss's default target is 1e-5 of its
+    scale (x: the half-width 20 of its bounds; stop: its own scale 0.5); a file's own
+    targets win key by key and come first (the headline); the About text says which is
+    which."""
+    m = _tiny()
+    assert m.tolerances == pytest.approx({"x_miss_m": 2e-4, "stop_miss_m_s": 5e-6})
+    assert ("Accuracy targets of the re-propagated final misses, from the scales, as no "
+            "`tolerances` are given (1e-05 × the state's or constraint's scale): "
+            "`x_miss_m` ≤ 0.0002, `stop_miss_m_s` ≤ 5e-06.") in m.help
+    own = _tiny(tolerances={"stop_miss_m_s": 1e-9})
+    assert list(own.tolerances.items()) == [("stop_miss_m_s", 1e-9),
+                                            ("x_miss_m", pytest.approx(2e-4))]
+    assert "the file's `tolerances`, and for `x_miss_m` the scale" in own.help
+
+
+def test_an_angle_control_bounded_to_more_than_one_turn_is_warned_about():
+    """φ and φ + 2π steer alike: an angle bounded to two turns can wind and end on another
+    branch (orbit raising bounded to [-π, 3π]: r(tf) 1.4983 instead of 1.5253 on 40
+    Hermite–Simpson nodes). It loads, with a warning at its line and in the About text."""
+    def declare(unit: str, bounds: tuple[float, float]) -> UserMission:
+        return UserMission(key="turn", title="t", states=(State("x", initial=0.0, final=1.0),),
+                           controls=(Control("phi", unit, bounds=bounds),),
+                           dynamics=lambda x, u, p: [u.phi],
+                           final_time=1.0, lagrange=lambda x, u, p: u.phi**2)
+
+    with pytest.warns(UserWarning, match="can wind") as record:
+        wound = declare("rad", (-math.pi, 3 * math.pi))
+    assert record[0].filename == __file__
+    assert wound.warnings == ("control 'phi': bounds [-3.14159, 9.42478] rad span 2 turns: "
+                              "the angle can wind (phi and phi + 6.28319 rad steer alike), so "
+                              "the optimum may not be unique; bound it to one turn around "
+                              "where it runs",)
+    assert f"**Warning:** {wound.warnings[0]}." in wound.help
+    with pytest.warns(UserWarning, match=r"span 1\.11 turns"):
+        assert declare("deg", (-20.0, 380.0)).warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert declare("rad", (0.0, 2 * math.pi)).warnings == ()
+        assert declare("m", (-100.0, 100.0)).warnings == ()
+
+
 # ---- the double integrator: analytic optimum, misses, drawing -------------------------------
 @pytest.fixture(scope="module")
 def double_integrator():
@@ -401,6 +540,15 @@ def test_cli_refuses_a_broken_file_with_its_line(tmp_path):
     assert res.returncode == 2
     assert res.stderr.strip() == (f"error: {path}:{_line_of(path, 'dynamics=')}: dynamics "
                                   "returns 1 value for 2 states (x, v)")
+
+
+def test_cli_warns_of_an_angle_control_that_can_wind(tmp_path):
+    path = _file(tmp_path, GOOD.replace('Control("a", "m/s²", bounds=(-1, 1))',
+                                        'Control("a", "deg", bounds=(-360, 360))'))
+    res = _cli("params", "tiny", "--mission-file", str(path))
+    assert res.returncode == 0, res.stderr
+    assert (f"{path}:{_line_of(path, 'Control(')}: UserWarning: control 'a': bounds [-360, "
+            "360] deg span 2 turns: the angle can wind") in res.stderr
 
 
 LOOP = "from solvers.userproblem import State\n\nX = 1\nwhile True:\n    X += 1\n"
