@@ -1,7 +1,8 @@
 """What the 3D view draws, in display units, built from a `Presentation` (pure numpy, tested
 without a browser): the path as segments (burn and coast arcs in their colours, or coloured by
-`Presentation.color_by`), the nodes, thrust arrows, reference curves, bodies and markers; plus
-the iterate ghosts and a failed attempt's path.
+`Presentation.color_by`), the nodes, thrust arrows, reference curves (the throttle bounds'
+rings around the arrows among them), bodies and markers; plus the iterate ghosts and a failed
+attempt's path.
 
 Everything is scaled to the presentation's display unit (metres x `display_scale`, e.g. km)
 so the WebGL float32 buffers keep their precision.
@@ -15,7 +16,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from plotly.colors import sample_colorscale
 
-from solvers.presentation import Presentation
+from solvers import palette
+from solvers.presentation import Curve, Presentation
 
 BURN = (255, 140, 0)
 COAST = (0, 200, 255)
@@ -33,6 +35,9 @@ GHOST = np.array([185, 205, 255])  # iterates fade from the background towards t
 BACKGROUNDS = {True: 8, False: 236}  # dark / light sky grey level
 ARROW_FRACTION = 0.08  # thrust arrow length as a fraction of the trajectory extent
 MAX_ARROWS = 120  # more nodes than this: every k-th thrust arrow (a fine mesh is a blur)
+MAX_RINGS = 12  # arrows with throttle-bound rings (two circles each: more is a tangle)
+RING_POINTS = 24  # segments per ring (software WebGL draws every one)
+RING_NAME = "throttle bounds ρ1, ρ2"
 MERGE_LABELS = 0.05  # markers closer than this fraction of the extent share one label
 _AXES = {"+x": (1, 0, 0), "-x": (-1, 0, 0), "+y": (0, 1, 0), "-y": (0, -1, 0),
          "+z": (0, 0, 1), "-z": (0, 0, -1)}
@@ -154,6 +159,43 @@ def _path_colors(pres: Presentation, t: np.ndarray, arcs: list, n: int
     return colors, None
 
 
+def thrust_arrows(pres: Presentation, nodes: np.ndarray, extent: float) -> np.ndarray:
+    """(K, 2, 3) base and tip of the thrust arrows at the nodes (display units): length
+    `ARROW_FRACTION` of the extent times the throttle, every k-th beyond `MAX_ARROWS`."""
+    thrust = np.asarray(pres.thrust, float).reshape(-1, 3)
+    if not len(thrust) or len(thrust) != len(nodes):
+        return np.zeros((0, 2, 3))
+    on = np.flatnonzero(np.linalg.norm(thrust, axis=1) > 1e-9)
+    on = on[::max(1, math.ceil(len(on) / MAX_ARROWS))]
+    return np.stack([nodes[on], nodes[on] + ARROW_FRACTION * extent * thrust[on]], axis=1)
+
+
+def throttle_rings(arrows: np.ndarray, bounds: tuple[float, float] | None, length: float,
+                   up: np.ndarray) -> list[Curve]:
+    """The throttle bounds (fractions of a full-length arrow, `length` display units) as
+    two circles about the bases of at most `MAX_RINGS` arrows, evenly spread along the path
+    (by distance: slow flight near the ground bunches the nodes), each in the plane of its
+    arrow and the vertical: the tip lies between them, on the inner one where the lower
+    bound (the nonconvex ρ1) is active. Display units, `RING_POINTS` a circle."""
+    if bounds is None or not len(arrows):
+        return []
+    along = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(arrows[:, 0], axis=0),
+                                                            axis=1))])
+    marks = np.linspace(0.0, along[-1], min(len(arrows), MAX_RINGS))
+    pick = np.unique(np.argmin(np.abs(along[:, None] - marks), axis=0))
+    theta = np.linspace(0.0, 2.0 * np.pi, RING_POINTS + 1)[:, None]
+    fallback = np.cross(up, np.eye(3)[int(np.argmin(np.abs(up)))])
+    rings = []
+    for base, tip in arrows[pick]:
+        side = (tip - base) - ((tip - base) @ up) * up  # the arrow's horizontal part
+        norm = float(np.linalg.norm(side))
+        side = side / norm if norm > 1e-9 * length else fallback / np.linalg.norm(fallback)
+        circle = np.cos(theta) * up + np.sin(theta) * side
+        rings += [Curve(RING_NAME, base + fraction * length * circle, palette.CONTROL_BOUND)
+                  for fraction in bounds]
+    return rings
+
+
 def build_geometry(pres: Presentation, t: np.ndarray, arcs: list[tuple[float, float, str]],
                    dim: bool = False) -> Geometry:
     """Display-unit geometry of a presentation of a solution with dense times `t` and
@@ -173,16 +215,12 @@ def build_geometry(pres: Presentation, t: np.ndarray, arcs: list[tuple[float, fl
     if extent <= 0.0:
         extent = 4.0 * pres.bodies[0].radius * scale if pres.bodies else 1.0
     nodes = np.asarray(pres.nodes, float).reshape(-1, 3) * scale
-    thrust = np.asarray(pres.thrust, float).reshape(-1, 3)
-    arrows = np.zeros((0, 2, 3))
-    if len(thrust) and len(thrust) == len(nodes):
-        on = np.flatnonzero(np.linalg.norm(thrust, axis=1) > 1e-9)
-        on = on[::max(1, math.ceil(len(on) / MAX_ARROWS))]
-        tips = nodes[on] + ARROW_FRACTION * extent * thrust[on]
-        arrows = np.stack([nodes[on], tips], axis=1)
+    arrows = thrust_arrows(pres, nodes, extent)
+    rings = throttle_rings(arrows, pres.thrust_bounds, ARROW_FRACTION * extent,
+                           up_axis(pres.up))
     curves, curve_colors, names = [], [], []
-    for curve in pres.curves:
-        segs = polyline_segments(np.asarray(curve.points, float) * scale)
+    for curve, k in [*((c, scale) for c in pres.curves), *((r, 1.0) for r in rings)]:
+        segs = polyline_segments(np.asarray(curve.points, float) * k)
         if curve.dashed and len(segs) >= 40:
             segs = segs[::2]
         curves.append(segs)

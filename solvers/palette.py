@@ -20,6 +20,7 @@ ORBIT: RGB = (200, 200, 200)  # a reference orbit
 AXIS: RGB = (110, 110, 130)  # an approach axis, a direction
 GRID: RGB = (90, 90, 100)  # a ground grid
 BOUND: RGB = (200, 120, 80)  # a state bound drawn in space
+CONTROL_BOUND: RGB = (160, 110, 155)  # a control's bounds around its arrows (muted magenta)
 FREE_MOTION: RGB = (150, 150, 150)  # motion without control
 REFERENCE: RGB = (255, 120, 200)  # an independent (e.g. maximum-principle) optimum
 NONLINEAR: RGB = (255, 110, 110)  # a re-propagation in a higher-fidelity model

@@ -103,6 +103,9 @@ class Presentation:
     path: np.ndarray  # (len(Solution.t), 3) metres, display frame
     nodes: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     thrust: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))  # per node, |.| = throttle
+    # The throttle's bounds (fractions of the |.| = 1 thrust, e.g. ρ1/T_max, ρ2/T_max): the
+    # explorer draws them as rings around the arrows' bases, the tips between them.
+    thrust_bounds: tuple[float, float] | None = None
     display_unit: str = "m"
     display_scale: float = 1.0
     up: str = "+z"

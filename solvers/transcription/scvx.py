@@ -45,7 +45,7 @@ import scipy.sparse as sp
 from scipy.sparse.linalg import ArpackNoConvergence, eigsh
 
 from ..context import SolveContext
-from ..nlp.casadi_nlp import NLPResult
+from ..nlp.casadi_nlp import SNAPSHOT_ITERATIONS, NLPResult
 from ..ocp import OCP
 from .hermite_simpson import HermiteSimpson
 
@@ -96,7 +96,8 @@ class SCvxSolver:
     def solve(self, x0: np.ndarray, p: np.ndarray, lbx: np.ndarray, ubx: np.ndarray,
               lbg: np.ndarray, ubg: np.ndarray, lam_x0: np.ndarray | None = None,
               lam_g0: np.ndarray | None = None, ctx: SolveContext | None = None) -> NLPResult:
-        """Iterate from x0 until converged; raises `Cancelled`/`TimeLimit` via `ctx`."""
+        """Iterate from x0 until converged; raises `Cancelled`/`TimeLimit` via `ctx`. The
+        history keeps accepted iterates 0, 1, 2, 3, 5, 8, … (IPOPT's snapshots) and the last."""
         s = self.settings
         lbg, ubg = np.array(lbg, float), np.array(ubg, float)
         lbg[self.replaced], ubg[self.replaced] = -np.inf, np.inf  # kept exact as cones
@@ -159,7 +160,8 @@ class SCvxSolver:
         return NLPResult(x=z, f=f, g=g, lam_x=np.zeros(self.n_x), lam_g=np.zeros(self.n_g),
                          iterations=k, return_status=status,
                          success=status == "Solve_Succeeded", max_violation=viol,
-                         history=history[:1] + history[1:][-12:])
+                         history=[h for i, h in enumerate(history)
+                                  if i in SNAPSHOT_ITERATIONS or i == len(history) - 1])
 
     def _linearised(self, z: np.ndarray, p: np.ndarray
                     ) -> tuple[float, np.ndarray, np.ndarray, sp.coo_matrix]:

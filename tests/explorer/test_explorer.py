@@ -10,7 +10,15 @@ import numpy as np
 import pytest
 
 from explorer.camera import fit_camera
-from explorer.geometry import ARROW_FRACTION, BURN, COAST, build_geometry
+from explorer.geometry import (
+    ARROW_FRACTION,
+    BURN,
+    COAST,
+    MAX_RINGS,
+    RING_NAME,
+    RING_POINTS,
+    build_geometry,
+)
 from explorer.panels import setup as ctl
 from explorer.panels import value_input as vi
 from explorer.panels.status import result_markdown
@@ -285,6 +293,46 @@ def test_scene_geometry_counts_colours_and_units():
     assert g.spheres[0].radius == 1.0 and len(g.markers) == 1
     dim = build_geometry(pres, sol.t, sol.arcs, dim=True)
     assert not np.any(np.all(dim.segment_colors[:, 0] == BURN, axis=1))
+
+
+def test_throttle_bounds_are_rings_about_the_arrows_in_their_vertical_plane():
+    """Issue 21: each ring is a circle about an arrow's base of radius ARROW_FRACTION ×
+    extent × the bound, in the plane of the arrow and the vertical: the tip lies between
+    the two rings, on the inner one at the lower bound; at most MAX_RINGS arrows get them,
+    spread evenly along the path (nodes bunched at one end do not bunch the rings), sent
+    with the reference curves under one legend name."""
+    sol, pres = _toy_solution()
+    assert not any(name == RING_NAME for name, _, _ in build_geometry(
+        pres, sol.t, sol.arcs).curve_names)  # no bounds, no rings
+    n = 120
+    nodes = np.column_stack([9e3 * np.linspace(0, 1, n) ** 2, np.zeros(n), np.full(n, 2e3)])
+    angle = np.linspace(0.0, 3.0, n)
+    throttle = np.linspace(0.3, 0.8, n)
+    thrust = throttle[:, None] * np.column_stack([np.sin(angle) * np.cos(3 * angle),
+                                                  np.sin(angle) * np.sin(3 * angle),
+                                                  np.cos(angle)])
+    pres.nodes, pres.thrust, pres.thrust_bounds = nodes, thrust, (0.3, 0.8)
+    g = build_geometry(pres, sol.t, sol.arcs)
+    names = [name for name, _, _ in g.curve_names]
+    assert names.count(RING_NAME) == 2 * MAX_RINGS
+    rings = g.curve_segments[4:].reshape(MAX_RINGS, 2, RING_POINTS, 2, 3)
+    unit = ARROW_FRACTION * g.extent
+    bases = g.arrows[:, 0]
+    gaps = np.diff(rings[:, 0, :, 0].mean(axis=1)[:, 0])  # the rings' centres, downrange
+    assert gaps.min() > 0.6 * gaps.max()
+    for pair in rings:
+        centre = pair[0, :, 0].mean(axis=0)  # evenly spaced round a circle
+        k = int(np.argmin(np.linalg.norm(bases - centre, axis=1)))
+        base, d = bases[k], g.arrows[k, 1] - bases[k]
+        assert base == pytest.approx(centre, abs=1e-9 * unit)
+        for ring, bound in zip(pair, (0.3, 0.8), strict=True):
+            points = ring[:, 0] - base
+            assert np.linalg.norm(points, axis=1) == pytest.approx(bound * unit)
+            normal = np.cross(d, (0.0, 0.0, 1.0))
+            if np.linalg.norm(normal) > 1e-9:  # the plane of the arrow and the vertical
+                assert points @ normal == pytest.approx(0.0, abs=1e-9 * unit)
+        assert 0.3 * unit - 1e-9 <= np.linalg.norm(d) <= 0.8 * unit + 1e-9
+    assert np.linalg.norm(g.arrows[0, 1] - g.arrows[0, 0]) == pytest.approx(0.3 * unit)
 
 
 def test_lunar_scene_and_camera_frame_the_descent():

@@ -30,6 +30,8 @@ def test_every_missions_handles_bind_numeric_parameters():
     assert declared["bang-bang"] == {"distance"}
     assert declared["lunar-landing"] == {"altitude0"}
     assert declared["apollo-reentry"] == {"h0", "gamma0"}
+    assert declared["powered-descent"] == {"downrange0", "crossrange0", "altitude0",
+                                           "target_downrange", "target_crossrange"}
     with pytest.raises(ValueError, match="'nope' is not a numeric parameter"):
         check_bindings((Handle("h", "h", ("nope", 0.0, 0.0)),), m.all_params(), ())
 
@@ -125,6 +127,32 @@ def test_dragging_the_carts_target_sets_the_distance_the_slider_and_a_new_optimu
     assert "end of range" in drawn.label.text
     assert any("held at the end of the range" in m for _, m in view.reports)
     assert view.session.latest.cost.value == pytest.approx(20.0, rel=2e-3)  # 2 sqrt(100)
+
+
+def test_the_mars_target_drags_on_the_ground_and_the_lander_lands_there(live):
+    """Powered descent (issue 21): the target's height is locked (it stays on the ground),
+    a drag sets its two coordinates, clamped at ±3 km, and the descent re-solved from the
+    same start touches down where it was dropped (drawn surface-fixed, in km)."""
+    mission = get_mission("powered-descent")
+    target = next(h for h in mission.handles if h.key == "target")
+    assert target.active_axes == (True, True, False)
+    moved = values_at(target, (500.0, -250.0, 800.0), mission.params, {})
+    assert moved.values == {"target_downrange": 500.0, "target_crossrange": -250.0}
+    far = values_at(target, (9e3, 0.0, 0.0), mission.params, {})
+    assert far.values["target_downrange"] == 3e3 and far.held == ("target_downrange",)
+    assert target.where(mission.defaults() | moved.values, {}) == (500.0, -250.0, 0.0)
+    view = live(mission)
+    drawn = view.handles.drawn["target"]
+    assert tuple(drawn.gizmo.active_axes) == (True, True, False)
+    assert np.allclose(drawn.gizmo.position, (0.0, 0.0, 0.0))
+    _drag(view, "target", [(0.1, -0.1, 0.0), (0.3, -0.2, 0.0)])
+    values = view.session.values
+    assert values["target_downrange"] == pytest.approx(300.0)
+    assert values["target_crossrange"] == pytest.approx(-200.0)
+    sol = view.session.latest
+    assert sol.converged, sol.message
+    assert np.allclose(view.geometry.points[-1], (0.3, -0.2, 0.0), atol=1e-6)
+    assert np.allclose(view.geometry.points[0], (2.0, 0.0, 1.5), atol=1e-6)  # start stays
 
 
 def test_a_marked_point_under_a_handle_leaves_the_label_to_the_handle(live):
@@ -268,5 +296,7 @@ def test_a_handles_label_is_short_values_in_display_units():
     assert describe(handle, mission.defaults(), params) == "start point (2000, 0, 1500) m"
     lunar = get_mission("lunar-landing")
     lunar_params = {p.key: p for p in lunar.all_params(lunar.methods[0].key)}
+    target = describe(mission.handles[1], mission.defaults(), params)
+    assert target == "landing target (0, 0) m"
     text = describe(lunar.handles[0], lunar.defaults(), lunar_params, held=("altitude0",))
     assert text.startswith("ignition altitude 15 km") and "end of range" in text

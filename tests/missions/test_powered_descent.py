@@ -14,6 +14,7 @@ impossible, named.
 
 from __future__ import annotations
 
+from functools import cache
 from pathlib import Path
 
 import numpy as np
@@ -29,6 +30,7 @@ from solvers.missions.powered_descent.lossless import descent_socp, solve_lossle
 from solvers.missions.powered_descent.model import P_RHO1, P_RHO2, parameter_vector
 from solvers.missions.powered_descent.switch_mesh import SHORT, switch_mesh, switch_times
 from solvers.registry import load_mission_files
+from solvers.solution import Solution
 from solvers.transcription import direct_transcription
 
 KEY = "powered-descent"
@@ -210,6 +212,99 @@ def test_inconsistent_inputs_are_refused() -> None:
         mission.solve({"mass_dry": 1950.0}, method="lossless")
     with pytest.raises(ValueError, match="throttle lower bound"):
         mission.solve({"throttle_min": 0.85}, method="lossless")
+
+
+# ---- The target dragged on the ground, the ghosts of SCvx's iterates (issue 21) --------------
+
+MOVED_TARGET = {"target_downrange": 300.0, "target_crossrange": -200.0}
+MOVED_START = {"downrange0": 1700.0, "crossrange0": 200.0}  # the start moved the other way
+AIM = (300.0, -200.0, 0.0)
+
+
+@cache
+def _unchecked(method: str, nodes: int, moved: tuple[tuple[str, float], ...]) -> Solution:
+    """A cold solve without the re-propagation and the error estimate, once per case."""
+    return solvers.get_mission(KEY).solve(dict(moved), method=method, nodes=nodes,
+                                          verify=False)
+
+
+@pytest.mark.parametrize(("method", "nodes"), [("lossless", 20), ("scvx", 10),
+                                               ("hermite-simpson", 10)])
+def test_moving_the_target_is_moving_the_start_the_other_way(method: str, nodes: int) -> None:
+    """The dynamics do not depend on where the target is: a target 300 m downrange and
+    200 m to the right costs what a start 300 m nearer and 200 m to the left costs, and
+    the drawing (surface-fixed) puts the touchdown, the cone's apex and the middle of the
+    surface patch on the target, the start where its sliders say."""
+    moved = _unchecked(method, nodes, tuple(MOVED_TARGET.items()))
+    other_way = _unchecked(method, nodes, tuple(MOVED_START.items()))
+    assert moved.status == other_way.status == "optimal", (moved.message, other_way.message)
+    assert moved.value("fuel") == pytest.approx(other_way.value("fuel"), rel=1e-6)
+    # Not the default's fuel: the target moved the landing (398 kg at the defaults).
+    assert abs(moved.value("fuel") - 398.1) > 5.0
+    assert moved.value("landing_error") < 1e-3
+    pres = solvers.get_mission(KEY).present(moved)
+    assert pres.path[-1] == pytest.approx(AIM, abs=1e-3)
+    assert pres.path[0] == pytest.approx((2000.0, 0.0, 1500.0))
+    assert pres.markers[1].position == pytest.approx(AIM)
+    assert pres.markers[1].name.startswith("target: touched down")
+    surface, cone = pres.curves
+    assert cone.points[0] == pytest.approx(AIM)  # the glide-slope cone's apex
+    middle = (surface.points.min(axis=0) + surface.points.max(axis=0)) / 2
+    assert middle == pytest.approx(AIM)
+    assert pres.thrust_bounds == (0.3, 0.8)  # ρ1/T_max, ρ2/T_max: the rings
+    for (_, ghost), it in zip(pres.iterates, moved.history, strict=True):
+        assert ghost == pytest.approx(it.x[:, :3] + AIM)
+
+
+def test_minimum_landing_error_draws_the_miss_from_a_moved_target() -> None:
+    """Blackmore et al.'s problem 1 (the preset): the target out of reach, the touchdown is
+    drawn with its distance from the target where the target was dragged to, and that
+    distance is the one with the start moved the other way."""
+    mission = solvers.get_mission(KEY)
+    preset = next(p for p in mission.presets if "landing error" in p.name)
+    far = mission.solve({**preset.values, **MOVED_TARGET}, method=preset.method, nodes=20,
+                        verify=False)
+    start = {**preset.values, "downrange0": preset.values["downrange0"] - 300.0,
+             "crossrange0": 200.0}
+    other_way = mission.solve(start, method=preset.method, nodes=20, verify=False)
+    assert far.status == other_way.status == "optimal", (far.message, other_way.message)
+    miss = far.value("landing_error")
+    assert miss > 100.0 and miss == pytest.approx(other_way.value("landing_error"), rel=1e-6)
+    pres = mission.present(far)
+    target, touchdown = pres.markers[1:]
+    assert target.name == "target" and target.position == pytest.approx(AIM)
+    assert touchdown.name == f"touchdown ({miss:.1f} m from the target)"
+    assert touchdown.position == pytest.approx(pres.path[-1])
+    assert np.hypot(*(np.array(touchdown.position) - AIM)[:2]) == pytest.approx(miss)
+
+
+def test_scvx_replays_its_convex_iterates_from_a_cold_start() -> None:
+    """SCvx's history holds the iterates of all its solves (the cold one and the re-solves
+    on the switch mesh), from the first convex steps on (it kept the first and the last
+    twelve of the last re-solve: iterations 0, 25-36, a jump from the guess to the
+    answer), numbered on, the last the answer."""
+    sol = _unchecked("scvx", 10, tuple(MOVED_TARGET.items()))
+    assert sol.status == "optimal", sol.message
+    its = [it.iteration for it in sol.history]
+    assert len(its) >= 2 and its == sorted(set(its)) and its[0] == 0, its
+    assert its[1] <= 3, its  # the first convex steps are there to replay
+    assert its[-1] <= sol.stats["iterations"]
+    assert sol.history[-1].x == pytest.approx(sol.node_x, abs=1e-9)
+    assert sol.history[-1].t == pytest.approx(sol.node_t)
+
+
+def test_scvx_records_its_iterates_on_a_general_ocp() -> None:
+    """The same on another mission's OCP (lunar landing's Hermite-Simpson NLP): the
+    snapshots at the accepted steps 0, 1, 2, 3, 5, 8, … (as IPOPT's) and the answer."""
+    mission = solvers.get_mission("lunar-landing")
+    hs = mission.method("hermite-simpson")
+    values, _, _ = mission.validate({}, hs.key, None)
+    sol = mission.solve_direct(values, SCVX.replace(nodes=hs.nodes), 10, "scvx", None,
+                               SolveContext())
+    assert sol.status == "optimal", sol.message
+    its = [it.iteration for it in sol.history]
+    assert its[:4] == [0, 1, 2, 3] and len(its) >= 6, its
+    assert sol.history[-1].x == pytest.approx(sol.node_x, abs=1e-9)
 
 
 # ---- SCvx as a general method on other missions' OCPs ---------------------------------------

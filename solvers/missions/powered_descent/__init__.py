@@ -16,7 +16,7 @@ from ...methods import HERMITE_SIMPSON, SCVX
 from ...mission import Mission
 from ...ocp import OCP, OCPResult
 from ...problem import Method
-from ...solution import Solution, WarmStart
+from ...solution import Iterate, Solution, WarmStart
 from ...transcription import Transcription
 from . import problem, view
 from .methods import LOSSLESS, certify_infeasible, record_direct, solve_method
@@ -74,14 +74,15 @@ class PoweredDescent(Mission, records=problem):
         mesh when it has this many intervals (a slider move: one solve, or two when the
         switches moved), on the warm start's switches otherwise (another node count: the
         cost error estimate's second solve), on equal steps cold; then again on the
-        answer's switch mesh until the mesh no longer moves."""
+        answer's switch mesh until the mesh no longer moves. The iterates of every solve
+        make one replay (`_joined`)."""
         n = transcription.N
         tau = None
         if warm is not None:
             tau = warm.tau if warm.n_intervals == n else _switch_mesh(
                 n, warm.tau * warm.T, warm.U, warm.T, p)
         res = transcription.solve(p, warm, ctx, tau=tau)
-        iterations = res.iterations
+        iterations, history = res.iterations, res.history
         for _ in range(ROUNDS):
             if res.status != "optimal":
                 break
@@ -90,8 +91,9 @@ class PoweredDescent(Mission, records=problem):
                                            atol=SHORT / (2 * n)):
                 break
             res = transcription.solve(p, res.warm, ctx, tau=mesh)
+            history = _joined(history, res.history, iterations)
             iterations += res.iterations
-        res.iterations = iterations
+        res.iterations, res.history = iterations, history
         return res
 
     def _solve(self, values: dict[str, float], method: Method, nodes: int, backend: str,
@@ -101,6 +103,13 @@ class PoweredDescent(Mission, records=problem):
         return solve_method(values, p, nodes, warm, ctx)
 
     _present = staticmethod(view.present)
+
+
+def _joined(history: list[Iterate], later: list[Iterate], offset: int) -> list[Iterate]:
+    """The iterates of a cold solve and of its re-solves on the switch mesh as one replay,
+    numbered on: a re-solve's first (the last answer on the new mesh) only when it moved no
+    further."""
+    return history + [Iterate(offset + it.iteration, it.t, it.x) for it in later[1:] or later]
 
 
 def _switch_mesh(n: int, t_nodes: np.ndarray, U: np.ndarray, T: float, p: np.ndarray

@@ -6,7 +6,9 @@ State (r, v, z): position [m], velocity [m/s], z = ln m [ln kg]; control T: thru
 
     r' = v,   v' = g + T e^{-z},   z' = -|T| e^{-z} / c,   c = Isp g0
 
-Numeric parameter vector p (SI): see the P_* indices.
+Numeric parameter vector p (SI): see the P_* indices. Its start (P_RX..P_RZ) is relative to
+the target: the mission's values give the start and the target in a surface-fixed frame (as
+drawn), and the dynamics do not depend on where the target is (`target`).
 """
 
 from __future__ import annotations
@@ -26,18 +28,26 @@ N_PARAMS = 15
 
 
 def parameter_vector(values: dict[str, float]) -> np.ndarray:
-    """The numeric parameters (SI) from validated mission values. The effective exhaust
+    """The numeric parameters (SI) from validated mission values, the start relative to the
+    target (the problem is translation invariant). The effective exhaust
     speed c is Isp g0 cos(cant): the canted thrusters burn propellant for their whole
     thrust but push along the axis with its cosine (Açıkmeşe & Ploen 2007, Eq. 3:
     α = 1/(Isp g_e cos φ))."""
     t_max = values["thrusters"] * values["thrust_each"] * np.cos(values["cant"])
+    tx, ty, _ = target(values)
     return np.array([
-        values["downrange0"], values["crossrange0"], values["altitude0"],
+        values["downrange0"] - tx, values["crossrange0"] - ty, values["altitude0"],
         values["vx0"], values["vy0"], values["vz0"],
         values["mass_wet"], values["mass_dry"], values["isp"] * G0 * np.cos(values["cant"]),
         values["throttle_min"] * t_max, values["throttle_max"] * t_max, values["gravity"],
         np.tan(values["glide_slope"]), values["max_speed"], np.cos(values["pointing"]),
     ])
+
+
+def target(values: dict[str, float]) -> np.ndarray:
+    """The landing target in the surface-fixed frame (m): on the ground, z = 0. The states
+    are relative to it; a point of the drawing is a state's position plus this."""
+    return np.array([values["target_downrange"], values["target_crossrange"], 0.0])
 
 
 def gravity(p) -> ca.SX:

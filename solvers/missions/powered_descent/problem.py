@@ -38,15 +38,22 @@ from .model import (
 DEG = np.pi / 180
 SOURCE = ("Açıkmeşe & Ploen 2007, JGCD 30(5); Blackmore, Açıkmeşe & Scharf 2010, JGCD 33(4) "
           "(Mars pinpoint landing by lossless convexification)")
-_START, _VEHICLE, _LIMITS = "Start (target-fixed)", "Vehicle", "Constraints"
+_START, _TARGET, _VEHICLE, _LIMITS = "Start", "Target", "Vehicle", "Constraints"
+_GROUND = "Surface-fixed, as drawn (the target has its own); solved from start − target."
 
 PARAMS = (
-    Param("downrange0", "start downrange x0", "m", 2000.0, -6000.0, 6000.0, 10.0, group=_START),
-    Param("crossrange0", "start crossrange y0", "m", 0.0, -6000.0, 6000.0, 10.0, group=_START),
+    Param("downrange0", "start downrange x0", "m", 2000.0, -6000.0, 6000.0, 10.0, group=_START,
+          help=_GROUND),
+    Param("crossrange0", "start crossrange y0", "m", 0.0, -6000.0, 6000.0, 10.0, group=_START,
+          help=_GROUND),
     Param("altitude0", "start altitude z0", "m", 1500.0, 100.0, 5000.0, 10.0, group=_START),
     Param("vx0", "start velocity downrange", "m/s", 100.0, -300.0, 300.0, 1.0, group=_START),
     Param("vy0", "start velocity crossrange", "m/s", 0.0, -300.0, 300.0, 1.0, group=_START),
     Param("vz0", "start velocity up", "m/s", -75.0, -300.0, 100.0, 1.0, group=_START),
+    Param("target_downrange", "target downrange", "m", 0.0, -3000.0, 3000.0, 10.0,
+          group=_TARGET, help="Where the lander must touch down, on the flat ground."),
+    Param("target_crossrange", "target crossrange", "m", 0.0, -3000.0, 3000.0, 10.0,
+          group=_TARGET),
     Param("mass_wet", "wet mass m_wet", "kg", 1905.0, 500.0, 5000.0, 5.0, group=_VEHICLE),
     Param("mass_dry", "dry mass m_dry", "kg", 1505.0, 300.0, 4900.0, 5.0, group=_VEHICLE),
     Param("isp", "specific impulse Isp", "s", 225.0, 100.0, 450.0, 1.0, group=_VEHICLE),
@@ -70,8 +77,10 @@ PARAMS = (
           help="180° means no limit; lower values keep the thrust within this angle of up."),
 )
 
-# The start point is dragged in the target-fixed frame (the target is the origin).
-HANDLES = (Handle("start", "start point", ("downrange0", "crossrange0", "altitude0")),)
+# Both are dragged in the surface-fixed frame the view draws (the target on the ground: its
+# height is locked at 0).
+HANDLES = (Handle("start", "start point", ("downrange0", "crossrange0", "altitude0")),
+           Handle("target", "landing target", ("target_downrange", "target_crossrange", 0.0)))
 
 # Açıkmeşe & Ploen 2007, Figs. 7-8 (the glide-slope case of this example): t_f = 81 s, fuel
 # 399.5 kg. Both are optima of the paper's discrete problem, a 1-s grid with the thrust
@@ -94,8 +103,8 @@ PUBLISHED: tuple[Published, ...] = (
 )
 TOLERANCES = {"position_m": 1.0, "velocity_m_s": 0.05}
 LABELS = {
-    "x": Label("downrange", "m"),
-    "y": Label("crossrange", "m"),
+    "x": Label("downrange from the target", "m"),
+    "y": Label("crossrange from the target", "m"),
     "z_up": Label("height above the target", "m"),
     "vx": Label("downrange speed", "m/s"),
     "vy": Label("crossrange speed", "m/s"),
