@@ -40,6 +40,10 @@ GIZMO_BAND = 0.5  # octaves the path's extent may drift before the gizmo is resi
 # (a page may miss the release): then the values place it again.
 DRAG_IDLE = 1.0
 Report = Callable[[str, str], None]
+# Whether the browser of this client id may drag (shared mode: only the driver's), and how
+# a refused browser is told (its own notification, not everyone's).
+MayDrag = Callable[[int | None], bool]
+TellClient = Callable[[Any, str, str], None]
 
 
 @dataclass
@@ -93,9 +97,15 @@ class Handles:
 
     def __init__(self, scene: viser.SceneApi, session: Session, controls: Controls,
                  report: Report, root: str = "",
-                 released: Callable[[], None] = lambda: None) -> None:
+                 released: Callable[[], None] = lambda: None,
+                 may_drag: MayDrag = lambda _client_id: True,
+                 tell: TellClient = lambda _client, _title, _body: None) -> None:
+        """`may_drag(client_id)` says whether that browser's drags count (in shared mode
+        only the driver's: two hands on one gizmo would fight); a refused drag puts the
+        handle back and `tell`s that browser why."""
         self.scene, self.session, self.controls = scene, session, controls
         self.report, self.root, self.released = report, root, released
+        self.may_drag, self.tell = may_drag, tell
         self.moves = 0  # drag events that set values (tests and benchmarks count them)
         self._drawn: dict[str, _Drawn] = {}
         self._scale = 1.0  # scene units per display metre (the presentation's display_scale)
@@ -203,8 +213,21 @@ class Handles:
             drawn.mesh = self.scene.add_mesh_simple(
                 f"{name}_shape", vertices, faces, color=palette.BOUND, opacity=0.35,
                 side="double", cast_shadow=False, receive_shadow=False)
-        gizmo.on_update(lambda event: self._dragged(drawn, event.phase))
+        gizmo.on_update(lambda event: self._event(drawn, event))
         return drawn
+
+    def _event(self, drawn: _Drawn, event: viser.TransformControlsEvent) -> None:
+        """A browser moved a gizmo: a drag if that browser may drag, else put it back."""
+        if self.may_drag(event.client_id):
+            self._dragged(drawn, event.phase)
+            return
+        with self._lock:
+            drawn.in_hand = False
+            self._sync(self.session.values)
+        if event.phase == "start" and event.client is not None:
+            self.tell(event.client, "only the driver drags",
+                      "Every tab shows one case here: the tab that opened first drives the "
+                      "handles (sliders move for everyone).")
 
     def _sync(self, values: Mapping[str, float]) -> None:
         """Put every handle not in a hand where `values` place it, labels and shapes too."""

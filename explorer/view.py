@@ -91,7 +91,8 @@ class View(ViewDrawing):
         self.camera = ViewCamera(self.play, self._lock, self._drawn_geometry,
                                  lambda: self.scene.vehicle_size)
         self.handles = Handles(scene, self.session, self.controls, self.refuse, scene_root,
-                               released=self.camera.frame_if_needed)
+                               released=self.camera.frame_if_needed, may_drag=self.drives,
+                               tell=self.status.notify_one)
         self.overlay = ComparisonOverlay(self.scene, self._lock, self.side,
                                          self.compare.show_table, self.present)
         self.replay = IterationReplay(self.scene, self._lock, lambda: self.presentation,
@@ -192,6 +193,12 @@ class View(ViewDrawing):
 
     def detach(self, client: viser.ClientHandle) -> None:
         self.camera.detach(client)
+
+    def drives(self, client_id: int | None) -> bool:
+        """Whether the browser `client_id` drives this view's handles: the one that opened
+        first of those watching (only shared mode has several; None: the server itself)."""
+        watching = list(self.camera.clients)
+        return client_id is None or not watching or client_id == watching[0]
 
     def close(self) -> None:
         self._closed.set()

@@ -248,6 +248,10 @@ class StatusPanel:
         self._notices = [c.add_notification(title, body, color="red", auto_close_seconds=8.0)
                          for c in list(clients)]
 
+    def notify_one(self, client: viser.ClientHandle, title: str, body: str) -> None:
+        """A note for one browser only (what it tried is refused to it alone)."""
+        client.add_notification(title, body, color="yellow", auto_close_seconds=6.0)
+
     def notify_kept(self, clients: Iterable[viser.ClientHandle], title: str, body: str) -> None:
         """A notification that stays until closed (no answer replaces it): why the case a
         link asked for is not the one on screen."""

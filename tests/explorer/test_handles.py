@@ -300,3 +300,44 @@ def test_a_handles_label_is_short_values_in_display_units():
     assert target == "landing target (0, 0) m"
     text = describe(lunar.handles[0], lunar.defaults(), lunar_params, held=("altitude0",))
     assert text.startswith("ignition altitude 15 km") and "end of range" in text
+
+
+class _Browser:
+    """A stand-in for a watching browser: its id, a camera that takes a listener, and the
+    notifications it was shown."""
+
+    def __init__(self, client_id: int) -> None:
+        self.client_id, self.notes = client_id, []
+        self.camera = type("Camera", (), {"on_update": lambda _self, _cb: None})()
+
+    def add_notification(self, title: str, body: str, **_kwargs) -> None:
+        self.notes.append(title)
+
+
+def test_in_shared_mode_only_the_driver_drags(live):
+    """Issue 19: with every tab showing one case (--shared), only the tab that opened first
+    drags; another tab's drag puts the handle back, changes nothing and tells that tab."""
+    from viser import TransformControlsEvent
+
+    view = live(get_mission("bang-bang"))
+    driver, other = _Browser(1), _Browser(2)
+    view.camera.cameras.clients.update({1: driver, 2: other})
+    drawn = view.handles.drawn["target"]
+    start = tuple(drawn.gizmo.position)
+
+    def hand(browser, x, phase):
+        drawn.gizmo.position = (x, 0.0, 0.0)
+        view.handles._event(drawn, TransformControlsEvent(browser, browser.client_id,
+                                                          drawn.gizmo, phase))
+
+    for phase in ("start", "update", "end"):
+        hand(other, 3.0, phase)
+    assert view.session.values["distance"] == 1.0 and np.allclose(drawn.gizmo.position, start)
+    assert other.notes == ["only the driver drags"] and driver.notes == []
+    for phase in ("start", "update", "end"):
+        hand(driver, 3.0, phase)
+    assert view.session.wait_idle(PATIENCE)
+    assert view.session.values["distance"] == 3.0
+    assert view.session.latest.cost.value == pytest.approx(2 * math.sqrt(3.0), rel=2e-3)
+    del view.camera.cameras.clients[1]  # the driver's tab closes: the next one drives
+    assert view.drives(2)
