@@ -79,10 +79,7 @@ POLL_S = 0.02  # how often a waiting session looks at its cancel event
 
 def _cancelled(mission: Mission, r: SolveRequest) -> Solution:
     """The answer a session gets for a solve it stopped waiting for."""
-    method = mission.method(r.method)
-    nodes = r.nodes if isinstance(r.nodes, int) else method.nodes[1]
-    return mission.empty(dict(r.values), method, nodes, r.backend or "", "cancelled",
-                         "cancelled by a newer request")
+    return r.unanswered(mission, "cancelled", "cancelled by a newer request")
 
 
 class _ServicePending:

@@ -43,3 +43,13 @@ class SolveRequest:
                              backend=self.backend, warm=warm, cold=self.cold,
                              progress=progress, cancel=cancel, time_limit=self.time_limit,
                              verify=verify)
+
+    def unanswered(self, mission: Mission, status: str, message: str) -> Solution:
+        """The answer without a trajectory for this request when its solve gives none (it
+        was cancelled, its worker died or ran out of time): the validated values, the
+        method's node count and the cost's label and unit; `ValueError` for bad input."""
+        vals, method, nodes = mission.validate(self.values, self.method,
+                                               self.nodes if isinstance(self.nodes, int)
+                                               else None)
+        return mission.empty(vals, method, nodes, self.backend or method.default_backend,
+                             status, message)

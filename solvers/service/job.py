@@ -32,6 +32,7 @@ class Job:
         self.checked = threading.Event()
         self.worker: int | None = None
         self.started: float | None = None
+        self.blank: Solution | None = None  # its answer if none comes (sent at begin)
 
     @property
     def deadline(self) -> float | None:

@@ -13,6 +13,7 @@ so. Jobs wait in one queue, first come, first served.
 from __future__ import annotations
 
 import collections
+import dataclasses
 import itertools
 import multiprocessing as mp
 import os
@@ -21,13 +22,12 @@ import time
 import weakref
 from collections.abc import Sequence
 
-from ..registry import get_mission, list_missions
 from ..request import SolveRequest
-from ..solution import Solution
+from ..solution import Quantity, Solution
 from .job import Job, Progress
 from .processes import WorkerHandle, runnable, single_threaded_children
 from .protocol import CheckUpdate, light_warm
-from .worker import resident_bytes, worker_main
+from .worker import Prebuild, resident_bytes, worker_main
 
 GRACE = 1.0  # s past a solve's time limit before its worker is killed
 # s a worker has to acknowledge a solve (its reader thread answers at once; the longest wait
@@ -56,7 +56,9 @@ class SolveService:
         self.rss_budget = rss_budget
         self.test_hooks = test_hooks
         self.mission_files = list(mission_files)
-        self.prebuild = self._prebuild_list(prebuild, first_mission)
+        # every worker lists the (mission, method) pairs itself for True: all, first first
+        self.prebuild: Prebuild = (list(prebuild) if not isinstance(prebuild, bool)
+                                   else (first_mission or "") if prebuild else [])
         self.restarts = 0
         self._early_deaths = 0  # consecutive workers that died before they were ready
         self._broken: str | None = None
@@ -72,14 +74,6 @@ class SolveService:
         self._workers: list[WorkerHandle] = [self._spawn(i) for i in range(self.n_workers)]
         self._monitor = threading.Thread(target=self._watch, daemon=True, name="service-watch")
         self._monitor.start()
-
-    @staticmethod
-    def _prebuild_list(prebuild: bool | Sequence[tuple[str, str]], first: str | None
-                       ) -> list[tuple[str, str]]:
-        if prebuild is True:
-            missions = sorted(list_missions(), key=lambda m: m.key != first)
-            return [(m.key, meth.key) for m in missions for meth in m.methods]
-        return list(prebuild or [])
 
     # ---- workers ----------------------------------------------------------------------------
     def _spawn(self, index: int) -> WorkerHandle:
@@ -118,7 +112,7 @@ class SolveService:
         elif kind == "begin":  # the time limit counts from here (not from the hand-over)
             with self._lock:
                 if w.job is not None and w.job.id == msg[1]:
-                    w.job.started = time.monotonic()
+                    w.job.started, w.job.blank = time.monotonic(), msg[2]
         elif kind == "progress":
             job = w.job
             if job is not None and job.id == msg[1] and job.progress is not None:
@@ -229,15 +223,13 @@ class SolveService:
         self._dispatch()
 
     def _fail(self, job: Job, status: str, message: str) -> None:
-        """Answer a job the worker could not answer: an empty solution with `status`."""
-        r = job.request
-        try:
-            mission = get_mission(r.mission)
-            vals, m, n = mission.validate(r.values, r.method, r.nodes)
-        except ValueError as exc:
-            job._finish(error=str(exc))
-            return
-        sol = mission.empty(vals, m, n, r.backend or m.default_backend, status, message)
+        """Answer a job the worker could not answer: its worker's empty solution (sent when
+        the solve began: validated values, the cost's label and unit) with `status`, or,
+        before it began, one made of the request itself (no mission is loaded here)."""
+        if job.blank is not None:
+            sol = dataclasses.replace(job.blank, status=status, message=message, stats={})
+        else:
+            sol = _unanswered(job.request, status, message)
         if job.started is not None:
             sol.stats["wall_s"] = time.monotonic() - job.started
         job._finish(sol)
@@ -373,3 +365,13 @@ class SolveService:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+def _unanswered(r: SolveRequest, status: str, message: str) -> Solution:
+    """An answer made of the request alone, for a job that ended before its solve began (a
+    worker that died in a start-up build, a cancel while queued): the mission's cost label
+    and unit are the worker's to know, so the cost is a bare NaN."""
+    return Solution(mission=r.mission, method=r.method or "",
+                    nodes=r.nodes if isinstance(r.nodes, int) else 0, status=status,
+                    message=message, cost=Quantity(float("nan"), "cost", ""),
+                    values=dict(r.values), backend=r.backend or "")

@@ -7,7 +7,8 @@ server -> worker: ("solve", job_id, SolveRequest, session, warm, verify, test_ho
                   ("cancel", job_id) · ("stop",) · ("reload", mission_files) ·
                   ("forget", session) (drop what is kept for it)
 worker -> server: ("ready", pid) · ("ack", job_id) (a solve received, sent at once) ·
-                  ("begin", job_id) (its solve starts: the time limit runs from here) ·
+                  ("begin", job_id, Solution) (its solve starts: the time limit runs from
+                  here; the empty answer, validated, the service gives if none comes) ·
                   ("progress", job_id, iteration, text) ·
                   ("result", job_id, Solution) · ("error", job_id, text) (bad input) ·
                   ("check", job_id, CheckUpdate) · ("rss", bytes) · ("retire", reason) ·

@@ -22,12 +22,15 @@ from multiprocessing.connection import Connection
 from typing import Any
 
 from ..nlp.cache import clear_built
-from ..registry import get_mission, load_mission_files
+from ..registry import get_mission, list_missions, load_mission_files
 from ..request import SolveRequest
 from ..solution import Solution
 from ..verify import CheckInterrupted, interruptible
 from .protocol import CheckUpdate, light_warm
 
+# What a worker builds at start-up: (mission, method) pairs, or a mission key for every
+# mission's every method, that one's first (the worker lists them: the service loads none).
+Prebuild = list[tuple[str, str]] | str
 PROGRESS_INTERVAL = 0.05  # s between progress messages of one solve
 
 
@@ -126,9 +129,17 @@ class Worker:
                 cancel.set()
         if test_hook == "busy" and self.test_hooks:
             self.misbehave(test_hook)
+        try:  # the answer the service gives if this solve gives none (killed, crashed)
+            mission = get_mission(request.mission)
+            blank = request.unanswered(mission, "failed", "")
+        except ValueError as exc:
+            with self.lock:
+                self.current = None
+            self.send(("error", job_id, str(exc)))
+            return
         # Its time limit runs from now: a start-up build this worker was in (native, it
         # cannot stop mid-way) is not the solve's time.
-        self.send(("begin", job_id))
+        self.send(("begin", job_id, blank))
         last = [0.0]
 
         def progress(iteration: int, text: str) -> None:
@@ -140,7 +151,7 @@ class Worker:
         if test_hook and test_hook != "busy" and self.test_hooks:
             self.misbehave(test_hook)
         try:
-            sol = request.run(get_mission(request.mission), warm=warm, progress=progress,
+            sol = request.run(mission, warm=warm, progress=progress,
                               cancel=cancel, verify=False)
         except ValueError as exc:
             self.send(("error", job_id, str(exc)))
@@ -217,13 +228,22 @@ class Worker:
             ctypes.CDLL(None).sleep(3600)
 
 
-def worker_main(conn: Connection, mission_files: list[str], prebuild: list[tuple[str, str]],
+def prebuild_pairs(prebuild: Prebuild) -> list[tuple[str, str]]:
+    """The (mission, method) pairs to build at start-up: given, or (a mission key) every
+    mission's every method, that mission's first."""
+    if not isinstance(prebuild, str):
+        return list(prebuild)
+    missions = sorted(list_missions(), key=lambda m: m.key != prebuild)
+    return [(m.key, meth.key) for m in missions for meth in m.methods]
+
+
+def worker_main(conn: Connection, mission_files: list[str], prebuild: Prebuild,
                 rss_budget: int, test_hooks: bool) -> None:
     """Entry point of a worker process."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the service's to handle
     errors: dict[str, Any] = load_mission_files(mission_files)
     if errors:
         conn.send(("mission-errors", errors))
-    worker = Worker(conn, prebuild, rss_budget, test_hooks)
+    worker = Worker(conn, prebuild_pairs(prebuild), rss_budget, test_hooks)
     threading.Thread(target=worker.read, daemon=True, name="worker-reader").start()
     worker.run()

@@ -172,6 +172,10 @@ def test_a_worker_killed_mid_solve_is_reported_and_replaced(service):
     sol = job.result(30.0)
     assert sol.status == "failed"
     assert "the solver process stopped unexpectedly" in sol.message
+    # The worker's empty answer, sent as the solve began (the service loads no mission):
+    # validated values and the cost's own label and unit.
+    assert (sol.cost.label, sol.cost.unit) == ("fuel", "kg") and sol.nodes == 30
+    assert sol.values["thrust"] == solvers.get_mission("lunar-landing").defaults()["thrust"]
     assert service.submit(SolveRequest("lunar-landing", "hermite-simpson"),
                           session="victim").result(60.0).ok
 
@@ -247,3 +251,24 @@ def test_a_worker_stopped_while_idle_gets_no_job_and_is_replaced(service, monkey
     while service.restarts == restarts:
         assert time.monotonic() < deadline, "no replacement worker"
         time.sleep(0.05)
+
+
+def test_the_service_side_loads_no_mission():
+    """Issue 18: the service's process neither lists the missions for the workers' start-up
+    builds (each worker lists them) nor validates a failed job again (the worker sent its
+    empty answer as the solve began): a CLI or server that solves one mission loads one."""
+    code = ("import sys\n"
+            "from solvers.request import SolveRequest\n"
+            "from solvers.service import SolveService\n"
+            "service = SolveService(1, prebuild=True, first_mission='bang-bang',\n"
+            "                       test_hooks=True)\n"
+            "job = service.submit(SolveRequest('bang-bang', time_limit=1.0), test_hook='hang')\n"
+            "sol = job.result(60.0)\n"
+            "assert sol.status == 'time-limit' and sol.cost.unit == 's', sol\n"
+            "loaded = sorted(m for m in sys.modules if m.startswith('solvers.missions.'))\n"
+            "service.close()\n"
+            "print(loaded)\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=120)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == "[]"
