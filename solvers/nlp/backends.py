@@ -2,7 +2,8 @@
 
 `kind` says which problems a back end takes:
 - "nlp": min f(z, p) s.t. lbg <= g(z, p) <= ubg, lbx <= z <= ubx, given symbolically; called
-  through `casadi_nlp.NLP(..., backend=key).solve(...)` (IPOPT, SQP, exterior penalty);
+  through `casadi_nlp.NLP(..., backend=key).solve(...)` (IPOPT, SQP, exterior penalty; FATROP
+  where the transcription also gives the problem in stage order, `fatrop.Stages`);
 - "equality": min f(z) s.t. h(z) = 0 from numeric value-and-gradient callbacks; called
   through `multiplier_method.solve_multiplier_method` (paper 002);
 - "scp": the same NLP by successive convexification (`transcription.scvx.SCvxSolver`);
@@ -33,6 +34,12 @@ BACKENDS: dict[str, Backend] = {b.key: b for b in (
     Backend("sqp", "SQP (CasADi sqpmethod, BFGS Hessian)", "nlp", "CasADi sqpmethod + qrqp",
             "Sequential quadratic programming with a limited-memory BFGS Hessian: the kind of "
             "solver paper 004 used; slower than IPOPT here."),
+    Backend("fatrop", "FATROP (structure-exploiting interior point)", "nlp",
+            "Vanroye, Sathya, De Schutter & Decré 2023, via CasADi",
+            "An interior point method whose linear algebra is a Riccati recursion over the "
+            "stages of an optimal control problem; solves a stage-ordered copy of the NLP "
+            "(multiple shooting, Hermite–Simpson); warm-started from the previous optimum's "
+            "primal values only (CasADi passes it no multipliers)."),
     Backend("penalty-bfgs", "Exterior penalty + BFGS (paper 000, eq. 12)", "nlp", "paper 000",
             "An increasing quadratic penalty on the constraint violations, each subproblem by "
             "BFGS: slow and inexact, which is the lesson."),

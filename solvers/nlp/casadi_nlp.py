@@ -1,9 +1,9 @@
-"""CasADi NLP back ends (IPOPT, SQP) behind one call, built once and re-solved warm.
+"""CasADi NLP back ends (IPOPT, SQP, FATROP) behind one call, built once and re-solved warm.
 
 An `NLP` is built from symbolic (x, f, g, p) once per (mission, method, node count) and then
 solved many times with new numeric parameters, bounds and starting points. An iteration
 callback reports progress, records a few iterate snapshots and stops the solver when the
-request is cancelled or past its time limit.
+request is cancelled or past its time limit (FATROP calls none: `fatrop`).
 """
 
 from __future__ import annotations
@@ -18,6 +18,7 @@ from ..context import Cancelled, SolveContext, TimeLimit
 from .backends import backend as registered_backend
 from .cache import BUILD_LOCK, built_once
 from .exterior_penalty import penalty_functions, solve_exterior_penalty
+from .fatrop import Stages, return_status
 
 __all__ = ["NLP", "NLPResult", "built_once", "status_of"]
 
@@ -129,15 +130,22 @@ class NLP:
         backend: str = "ipopt",
         name: str = "nlp",
         ipopt_options: dict | None = None,
+        stages: Stages | None = None,
     ) -> None:
         """`ipopt_options` are added to (and override) the common IPOPT settings, e.g.
-        {"ipopt.mu_strategy": "adaptive"} for a problem that needs it."""
+        {"ipopt.mu_strategy": "adaptive"} for a problem that needs it. `stages`: the same
+        problem in stage order, which the "fatrop" back end solves (and needs)."""
         with BUILD_LOCK:
-            self._build(x, f, g, p, backend, name, ipopt_options)
+            self._build(x, f, g, p, backend, name, ipopt_options, stages)
 
-    def _build(self, x, f, g, p, backend: str, name: str, ipopt_options: dict | None) -> None:
+    def _build(self, x, f, g, p, backend: str, name: str, ipopt_options: dict | None,
+               stages: Stages | None) -> None:
         if registered_backend(backend).kind != "nlp":
             raise ValueError(f"back end '{backend}' does not solve a general NLP")
+        if backend == "fatrop" and stages is None:
+            raise ValueError("back end 'fatrop' needs the NLP in stage order (variables stage "
+                             "by stage, gap constraints tying each stage to the next); this "
+                             "method builds none")
         self.backend = backend
         self.n_x = int(x.numel())
         self.n_g = int(g.numel())
@@ -145,6 +153,9 @@ class NLP:
         self._problem = {"x": x, "f": f, "g": g, "p": p}
         self._ipopt_options = dict(ipopt_options or {})
         self._name = name
+        self._stages = stages
+        # The original constraints at a staged solution's point (FATROP solves a copy).
+        self._g_of = ca.Function(f"{name}_g", [x, p], [g]) if stages is not None else None
         self._hook = _IterationHook(f"{name}_hook", self.n_x, self.n_g, self.n_p)
         self._solvers: dict[bool, ca.Function] = {}
         self._penalty_parts: ca.Function | None = None
@@ -154,9 +165,11 @@ class NLP:
         self._lock = BUILD_LOCK
 
     def _solver(self, warm: bool) -> ca.Function:
-        key = warm and self.backend == "ipopt"
+        key = warm and self.backend in ("ipopt", "fatrop")
         if key not in self._solvers:
-            if self.backend == "ipopt":
+            if self.backend == "fatrop":
+                self._solvers[key] = self._stages.solver(self._name, self._problem["p"], key)
+            elif self.backend == "ipopt":
                 opts = {**_IPOPT_COMMON, **self._ipopt_options, **(_IPOPT_WARM if key else {})}
                 opts["iteration_callback"] = self._hook
                 self._solvers[key] = ca.nlpsol(self._name, "ipopt", self._problem, opts)
@@ -216,17 +229,19 @@ class NLP:
             return on_iteration(k, x)
 
         args = {"x0": x0, "p": p, "lbx": lbx, "ubx": ubx, "lbg": lbg, "ubg": ubg}
-        if warm:
+        staged = self.backend == "fatrop"
+        if staged:  # FATROP calls back no iterate: a stop is checked before and after it
+            hook(0, np.asarray(x0, float))
+            if stop_reason:
+                raise stop_reason[0]
+            args = self._stages.arguments(x0, p, lbx, ubx, lbg, ubg)
+        elif warm:
             args.update(lam_x0=lam_x0, lam_g0=lam_g0)
-        with self._lock:
-            solver = self._solver(warm)
-            self._hook.handler = hook
-            self._hook.count = 0
-            try:
-                out = solver(**args)
-            finally:
-                self._hook.handler = None
-            stats = solver.stats()
+        out, stats = self._call(warm, args, hook)
+        if staged:
+            out = self._stages.original(out, self._g_of, p)
+            stats["return_status"] = return_status(stats)
+            on_iteration(int(stats.get("iter_count", 0)), out["x"])
         if stop_reason:
             raise stop_reason[0]
         x = np.asarray(out["x"]).ravel()
@@ -247,6 +262,19 @@ class NLP:
             max_violation=violation,
             history=history,
         )
+
+    def _call(self, warm: bool, args: dict, hook: Callable[[int, np.ndarray], bool]
+              ) -> tuple[dict, dict]:
+        """One call of the built solver (outputs, statistics), its iterations to `hook`."""
+        with self._lock:
+            solver = self._solver(warm)
+            self._hook.handler = hook
+            self._hook.count = 0
+            try:
+                out = solver(**args)
+            finally:
+                self._hook.handler = None
+            return out, solver.stats()
 
     def _solve_penalty(self, x0, p, lbx, ubx, lbg, ubg, ctx) -> NLPResult:
         """The exterior penalty method (paper 000, eq. 12) on the same NLP."""

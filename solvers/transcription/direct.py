@@ -15,6 +15,7 @@ import numpy as np
 
 from ..context import SolveContext
 from ..nlp.casadi_nlp import NLP, NLPResult, status_of
+from ..nlp.fatrop import Stages
 from ..ocp import OCP, BoundaryPoint, OCPResult
 from ..optimality import active_state_bounds
 from ..solution import Iterate, Series, WarmStart
@@ -96,11 +97,17 @@ class DirectTranscription(ABC):
         z = ca.vertcat(ca.vec(Xs), ca.vec(Us), Ts, t0s, ss)
         nlp_p = ca.vertcat(p, self._steps.T) if self.variable_mesh else p
         self.nlp = NLP(z, cost / ocp.cost_scale, ca.vertcat(*g), nlp_p, backend,
-                       name=self.kind.replace("-", "_"), ipopt_options=dict(ocp.nlp_options))
+                       name=self.kind.replace("-", "_"), ipopt_options=dict(ocp.nlp_options),
+                       stages=self._stages(p) if backend == "fatrop" else None)
 
     @abstractmethod
     def _dynamics(self, X: ca.SX, U: ca.SX, T: ca.SX, p: ca.SX) -> tuple[ca.SX, ca.SX]:
         """Scaled dynamics constraints (vector) and the running cost in the problem's units."""
+
+    def _stages(self, p: ca.SX) -> Stages | None:
+        """The same NLP in stage order for FATROP (`transcription.stages`); None: the method
+        has no stage structure (a global polynomial couples every node)."""
+        return None
 
     def _path_points(self, X: ca.SX, U: ca.SX) -> tuple[ca.SX, ca.SX]:
         """The (states, controls) columns where the path constraints are imposed: the

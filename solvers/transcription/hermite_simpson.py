@@ -16,9 +16,11 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
+from ..nlp.fatrop import Stages
 from ..ocp import OCP
 from .costates import CostatePoints, Endpoints, transversality
 from .direct import DirectTranscription
+from .stages import stage_order
 
 
 def hs_defects(
@@ -30,11 +32,19 @@ def hs_defects(
     N = X.shape[1] - 1
     h = h if isinstance(h, ca.SX | ca.MX | ca.DM) else ca.SX(h)
     F = f.map(N + 1)(X, U, P)
-    Xk, Xk1, Fk, Fk1 = X[:, :-1], X[:, 1:], F[:, :-1], F[:, 1:]
     H = ca.repmat(h, X.shape[0], 1) if h.shape[1] == N else h
+    return hs_intervals(f, X[:, :-1], X[:, 1:], F[:, :-1], F[:, 1:], (U[:, :-1] + U[:, 1:]) / 2,
+                        H, P[:, :-1])
+
+
+def hs_intervals(
+    f: ca.Function, Xk: ca.SX, Xk1: ca.SX, Fk: ca.SX, Fk1: ca.SX, Um: ca.SX, H: ca.SX, P: ca.SX
+) -> tuple[ca.SX, ca.SX, ca.SX]:
+    """Defects of intervals (columns) from their end states Xk, Xk1, the slopes there Fk,
+    Fk1, the midpoint controls Um and lengths H (a scalar or one per entry); also the
+    midpoint states and controls."""
     Xm = (Xk + Xk1) / 2 + H / 8 * (Fk - Fk1)
-    Um = (U[:, :-1] + U[:, 1:]) / 2
-    Fm = f.map(N)(Xm, Um, P[:, :-1])
+    Fm = f.map(Xk.shape[1])(Xm, Um, P)
     return Xk1 - Xk - H / 6 * (Fk + 4 * Fm + Fk1), Xm, Um
 
 
@@ -94,6 +104,27 @@ class HermiteSimpson(DirectTranscription):
             else:
                 running = h / 6 * (ca.sum2(L[:, :-1]) + 4 * ca.sum2(Lm) + ca.sum2(L[:, 1:]))
         return ca.vec(defects), running
+
+    def _stages(self, p: ca.SX) -> Stages:
+        """Stage k carries node k+1's state and control as controls: the defect involves
+        f(x_k+1), so it is a constraint of stage k and the gap a copy (`stages`)."""
+        return stage_order(self, p, self._stage_intervals, explicit=False)
+
+    def _stage_intervals(self, Xk: ca.SX, Uk: ca.SX, Xk1: ca.SX, Uk1: ca.SX, T: ca.SX,
+                         p: ca.SX) -> tuple[ca.SX, ca.SX, tuple[ca.SX, ca.SX] | None]:
+        """Scaled defects, Simpson running cost and midpoints of the intervals from their
+        end nodes (columns) and final times T (a row: one copy per stage)."""
+        N, ocp, f = self.N, self.ocp, self.fn.f
+        h = T * self._steps if self.variable_mesh else T / N
+        P = ca.repmat(p, 1, N)
+        defects, Xm, Um = hs_intervals(f, Xk, Xk1, f.map(N)(Xk, Uk, P), f.map(N)(Xk1, Uk1, P),
+                                       (Uk + Uk1) / 2, ca.repmat(h, ocp.nx, 1), P)
+        running = ca.SX(0)
+        if self.fn.lagrange is not None:
+            L = self.fn.lagrange.map(N)
+            running = ca.sum2(h * (L(Xk, Uk, P) + 4 * L(Xm, Um, P) + L(Xk1, Uk1, P))) / 6
+        return (defects / ca.repmat(ca.DM(ocp.x_scale), 1, N), running,
+                (Xm, Um) if self.midpoint_path else None)
 
     def _path_points(self, X: ca.SX, U: ca.SX) -> tuple[ca.SX, ca.SX]:
         if not self.midpoint_path:

@@ -11,9 +11,11 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
+from ..nlp.fatrop import Stages
 from ..ocp import OCP
 from .costates import CostatePoints, Endpoints
 from .direct import DirectTranscription
+from .stages import stage_order
 
 DEFAULT_SUBSTEPS = 8
 
@@ -37,6 +39,18 @@ class MultipleShooting(DirectTranscription):
         )
         gaps = (ends - X[:, 1:]) / ca.repmat(ca.DM(ocp.x_scale), 1, N)
         return ca.vec(gaps), ca.sum2(q)
+
+    def _stages(self, p: ca.MX) -> Stages:
+        """Stage k carries node k+1's control as its control (the control is linear across
+        the interval) and the RK4 map gives the next state explicitly (`stages`)."""
+        return stage_order(self, p, self._stage_intervals, explicit=True)
+
+    def _stage_intervals(self, Xk: ca.MX, Uk: ca.MX, Xk1: None, Uk1: ca.MX, T: ca.MX,
+                         p: ca.MX) -> tuple[ca.MX, ca.MX, None]:
+        """End states and running cost of the intervals from their end nodes (columns) and
+        final times T (a row: one copy per stage)."""
+        ends, _, q = self._interval.map(self.N)(Xk, Uk, Uk1, T, ca.repmat(p, 1, self.N))
+        return ends, ca.sum2(q), None
 
     def costate_points(self, mu: np.ndarray, X: np.ndarray, U: np.ndarray, T: float,
                        p: np.ndarray, ends: Endpoints, tau: np.ndarray) -> CostatePoints:

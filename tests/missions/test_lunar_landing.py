@@ -90,6 +90,55 @@ def test_warm_resolve_follows_thrust_change(default_solutions, method):
     assert warm.quantities["tf"].value < base.quantities["tf"].value
 
 
+# Issue 17: FATROP solves a stage-ordered copy of each transcription's NLP (it is offered,
+# not the default: benchmarks/bench_fatrop.py and the README's Benchmarks section).
+FATROP_METHODS = [m.key for m in MISSION.methods if "fatrop" in m.backends]
+PONTRYAGIN_TF = 398.03873  # paper 002's indirect reference (s), as printed
+PONTRYAGIN_FUEL = 270.77465  # kg
+
+
+@pytest.fixture(scope="module")
+def fatrop_solutions():
+    return {m: MISSION.solve(method=m, backend="fatrop") for m in FATROP_METHODS}
+
+
+def test_fatrop_is_offered_on_both_transcriptions_ipopt_stays_the_default():
+    assert FATROP_METHODS == ["hermite-simpson", "multiple-shooting"]
+    assert all(MISSION.method(m).default_backend == "ipopt" for m in FATROP_METHODS)
+
+
+@pytest.mark.parametrize("method", FATROP_METHODS)
+def test_fatrop_reaches_the_published_optimum(fatrop_solutions, default_solutions, method):
+    """Paper 002, table 1 (tf = 398.03868 s, fuel = 270.77461 kg, to 0.01 %) and its
+    Pontryagin reference (398.03873 s, 270.77465 kg, to the printed digits), as IPOPT does;
+    the same NLP's optimum as IPOPT's, multipliers (hence costates) included."""
+    sol = fatrop_solutions[method]
+    assert sol.status == "optimal" and sol.backend == "fatrop", sol.message
+    tf, fuel = sol.quantities["tf"].value, sol.quantities["fuel"].value
+    assert tf == pytest.approx(PUBLISHED_TF, rel=REL_TOL)
+    assert fuel == pytest.approx(PUBLISHED_FUEL, rel=REL_TOL)
+    assert tf == pytest.approx(PONTRYAGIN_TF, rel=1e-7)
+    assert fuel == pytest.approx(PONTRYAGIN_FUEL, rel=1e-7)
+    ipopt = default_solutions[method]
+    assert tf == pytest.approx(ipopt.quantities["tf"].value, rel=1e-10)
+    scale = np.max(np.abs(ipopt.costates.values), axis=0)
+    assert np.all(np.abs(sol.costates.values - ipopt.costates.values) <= 1e-6 * scale)
+    assert abs(sol.check["altitude_m"]) < 1.0 and abs(sol.check["speed_m_s"]) < 0.01
+
+
+@pytest.mark.parametrize("method", FATROP_METHODS)
+def test_fatrop_warm_resolve_follows_thrust_change(fatrop_solutions, method):
+    base = fatrop_solutions[method]
+    cold = MISSION.solve({"thrust": 2020.0}, method=method, backend="fatrop")
+    warm = MISSION.solve({"thrust": 2020.0}, method=method, backend="fatrop", warm=base)
+    ipopt = MISSION.solve({"thrust": 2020.0}, method=method, warm=base)
+    assert warm.ok and cold.ok and ipopt.ok
+    assert warm.stats["iterations"] <= 6 < cold.stats["iterations"]
+    for other in (cold, ipopt):
+        assert warm.quantities["tf"].value == pytest.approx(other.quantities["tf"].value,
+                                                            rel=1e-9)
+
+
 def test_node_count_change_reuses_solution(default_solutions):
     previous = default_solutions["hermite-simpson"]
     sol = MISSION.solve(method="hermite-simpson", nodes=60, warm=previous)

@@ -50,7 +50,7 @@ class ApolloReentry(Mission, records=problem):
             "default: CasADi's SQP with a BFGS Hessian (the paper's kind of solver) leaves "
             "the atmosphere from the paper's guess and stalls even when started at the "
             "optimum."),
-        HERMITE_SIMPSON.replace(nodes=(4, 40, 300), backends=("ipopt",)),
+        HERMITE_SIMPSON.replace(nodes=(4, 40, 300), backends=("ipopt", "fatrop")),
         LGL.replace(nodes=(10, 40, 80), backends=("ipopt",),
                     summary=LGL.summary + " The sharp dip into the dense air needs about 40 "
                     "nodes for 0.01 % (a global polynomial's weak spot)."),

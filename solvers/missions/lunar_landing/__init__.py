@@ -24,8 +24,10 @@ class LunarLanding(Mission, records=problem):
     key = "lunar-landing"
     title = "Lunar soft landing"
     summary = "Minimum-fuel powered descent from a 100 × 15 km orbit to a soft touchdown."
-    methods = (PAPER_METHOD, HERMITE_SIMPSON.replace(nodes=(5, 30, 200)),
-               MULTIPLE_SHOOTING.replace(nodes=(5, 30, 200)))
+    methods = (PAPER_METHOD,
+               HERMITE_SIMPSON.replace(nodes=(5, 30, 200), backends=("ipopt", "sqp", "fatrop")),
+               MULTIPLE_SHOOTING.replace(nodes=(5, 30, 200),
+                                         backends=("ipopt", "sqp", "fatrop")))
     cost_label = "fuel"
     cost_unit = "kg"
 
