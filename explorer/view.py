@@ -204,6 +204,7 @@ class View(ViewDrawing):
         self._closed.set()
         self.replay.closed.set()
         self.play.close()
+        self.side.later.close()
         self.session.close()
 
     # ---- SessionListener ----------------------------------------------------------------

@@ -95,7 +95,7 @@ class ViewDrawing:
             self._geometry = geometry
             if not dim:
                 self._new_track(sol, pres, geometry)
-            self.side.show_figure(figure, self.play.t * pres.time_scale
+            self.side.post_figure(figure, lambda: self.play.t * pres.time_scale
                                   if self.play.track else None, self.dark)
             self.side.show_map(pres.maps[0] if pres.maps else None, self.dark)
             self._draw_ghosts()

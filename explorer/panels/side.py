@@ -4,6 +4,7 @@ A figure is sent to the browser only when it changed."""
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Callable, Sequence
 
 import plotly.graph_objects as go
@@ -11,6 +12,7 @@ import viser
 
 from solvers.presentation import GridMap, PlotSeries
 
+from ..deferred import Deferred
 from ..page_figures import PageFigure
 from ..plots import figure_aspect, figure_tree, map_figure
 
@@ -20,6 +22,10 @@ PLOT_ASPECT = 0.37  # height/width of the figure inside that panel
 
 
 PER_PAGE = 6  # plots on one page of the panel: more would squeeze or overflow it
+# s an answer's plots follow its picture (two software-WebGL frames of viser's page: the
+# frame that applies the scene and the one that draws it), and at most one plot redraw in
+# that time while answers stream in (a drag).
+FIGURE_DELAY = 0.25
 
 
 class SidePanel:
@@ -42,6 +48,8 @@ class SidePanel:
         self.panel.float(x=-PANEL_GAP, y=-PANEL_GAP, width=PLOT_PANEL[0], height=PLOT_PANEL[1])
         self.figure = PageFigure(figure_tree([]), 0)
         self.marker_t: float | None = None
+        self._sending = threading.RLock()  # one figure at a time leaves (two threads send)
+        self.later = Deferred(FIGURE_DELAY)
         self.show_figure(self.figure)
         self._map_key: tuple | None = None
 
@@ -71,18 +79,34 @@ class SidePanel:
 
     def show_figure(self, figure: PageFigure, t: float | None = None, dark: bool = True,
                     subplots: int | None = None) -> None:
-        """Show `figure` with the time marker at `t`; its height follows its `subplots`
-        (default: those that carry the marker)."""
-        self.figure = figure
-        self.move_marker(t, dark)
-        self.plot.aspect = figure_aspect(max(subplots or figure.n_series, 1), PLOT_ASPECT)
+        """Show `figure` with the time marker at `t` now (a figure waiting to follow its
+        picture is dropped); its height follows its `subplots` (default: those that carry
+        the marker)."""
+        self.later.cancel()
+        with self._sending:
+            self.figure = figure
+            self.move_marker(t, dark)
+            self.plot.aspect = figure_aspect(max(subplots or figure.n_series, 1),
+                                             PLOT_ASPECT)
+
+    def post_figure(self, figure: PageFigure, t: Callable[[], float | None],
+                    dark: bool = True) -> None:
+        """Show an answer's `figure` after its picture (`FIGURE_DELAY`), the newest of those
+        posted meanwhile; `t` gives the time marker when it leaves."""
+        def send() -> None:
+            with self._sending:
+                self.figure = figure
+                self.move_marker(t(), dark)
+                self.plot.aspect = figure_aspect(max(figure.n_series, 1), PLOT_ASPECT)
+        self.later.post(send)
 
     def move_marker(self, t: float | None, dark: bool = True) -> None:
         """Send the figure again with its time marker at `t`."""
-        self.marker_t = t
-        # viser's own setter encodes a go.Figure (6 ms); the JSON is written once here and
-        # set as the handle's synced property (viser 1.x: `_plotly_json_str`).
-        self.plot._plotly_json_str = self.figure.text(t, dark)
+        with self._sending:
+            self.marker_t = t
+            # viser's own setter encodes a go.Figure (6 ms); the JSON is written once here
+            # and set as the handle's synced property (viser 1.x: `_plotly_json_str`).
+            self.plot._plotly_json_str = self.figure.text(t, dark)
 
     def show_map(self, grid_map: GridMap | None, dark: bool) -> None:
         """The first map of the presentation, re-sent only when it changed."""

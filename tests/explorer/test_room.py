@@ -269,6 +269,8 @@ def test_followers_share_the_teachers_plot_figure():
         # One figure for the room, not one per follower: the answer's, and on a slow machine
         # the previous answer dimmed while the solve ran (its progress reached the room).
         assert SHARED.built - built in (1, 2)
+        for v in views:  # each answer's plots follow its picture (explorer/deferred.py)
+            until(lambda v=v: not v.side.later.waiting, "the plots after the picture", 10.0)
         sent = {v.side.plot._plotly_json_str for v in views}
         assert len(sent) == 1 and '"x": [' in sent.pop()
         room.close()
