@@ -30,6 +30,7 @@ from .context import (
     SolveContext,
     TimeLimit,
 )
+from .continuation import Case, rescue
 from .handles import AnyHandle
 from .optimality import too_few_nodes
 from .presentation import Presentation
@@ -184,9 +185,10 @@ class Mission:
 
         `nodes="auto"` refines the mesh until the re-propagated miss meets the accuracy
         targets (`solvers.refine`; `tol` sets the headline target, see `accuracy_targets`).
-        `warm` is a previous solution to start from (None: the method's initial guess);
-        `cold=True` ignores it and, with "auto", starts every refinement step from the
-        initial guess too (an answer that depends on nothing but the request).
+        `warm` is a previous solution to start from (None: the method's initial guess); a
+        failure from there is rescued (`solvers.continuation`). `cold=True` ignores `warm`,
+        tries no rescue and, with "auto", starts every refinement step from the initial
+        guess too (what the initial guess alone does).
         `verify=False` defers the re-propagation check (`Solution.run_check()`), so a live
         view can draw the new optimum before the high-accuracy integration has run (an
         "auto" solve always checks: refinement needs the miss).
@@ -210,7 +212,10 @@ class Mission:
         vals, m, n = self.validate(values, method, nodes)
         warm = self._usable_warm(m, backend, warm)
         ctx = SolveContext(progress=progress, cancel=cancel, time_limit=time_limit)
-        sol = self._solve_or_say_why(vals, m, n, backend or m.default_backend, warm, ctx)
+        backend = backend or m.default_backend
+        sol = self.solve_validated(vals, m, n, backend, warm, ctx)
+        if not cold:  # a failure rescued by continuation or another method's seed
+            sol = rescue(Case(self, vals, m, n, backend), warm, sol, ctx)
         sol.stats["wall_s"] = ctx.elapsed()
         sol.stats.setdefault("iterations", ctx.iterations)
         sol.targets = targets
@@ -233,7 +238,7 @@ class Mission:
             return None
         return warm
 
-    def _solve_or_say_why(self, vals: dict[str, float], m: Method, n: int, backend: str,
+    def solve_validated(self, vals: dict[str, float], m: Method, n: int, backend: str,
                           warm: Solution | None, ctx: SolveContext) -> Solution:
         """Solve a validated request; an early end becomes a solution without a trajectory
         whose status says which (infeasible, cancelled, time-limit, failed)."""

@@ -22,7 +22,7 @@ from .solution import Solution
 
 if TYPE_CHECKING:
     from .context import ProgressCallback
-    from .mission import Mission
+    from .solvable import SolvableMission
 
 SAME_OPTIMUM = 1e-5
 PRIMES = (2, 3, 5, 7, 11, 13)
@@ -63,7 +63,7 @@ def distinct_optima(costs: list[float]) -> list[float]:
 
 
 def multistart(
-    mission: Mission,
+    mission: SolvableMission,
     values: Mapping[str, float] | None,
     method: str | None,
     nodes: int | str | None = None,

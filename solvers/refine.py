@@ -85,8 +85,8 @@ def solve_auto(mission: SolvableMission, values: Mapping[str, float] | None, met
     """Refine until the re-propagated miss meets the targets (see the module docstring).
     The first step starts at the method's default node count (or at `warm`'s, when `warm` is
     a converged solution of the same method); every later step is warm-started from the
-    step before, unless `cold` (every step from the initial guess). Returns the last
-    converged step's solution with `mesh` filled in."""
+    step before, unless `cold` (every step from the initial guess, with no rescue).
+    Returns the last converged step's solution with `mesh` filled in."""
     m = mission.method(method)
     mission.validate(values, m.key, None)
     mission.accuracy_targets(step.get("tol"))  # refuses a bad tol before any work
@@ -103,7 +103,7 @@ def solve_auto(mission: SolvableMission, values: Mapping[str, float] | None, met
         if remaining is not None and remaining <= 0:
             break
         t0 = time.perf_counter()
-        sol = mission.solve(values, m.key, n, warm=warm if usable else None,
+        sol = mission.solve(values, m.key, n, warm=warm if usable else None, cold=cold,
                             time_limit=remaining, **step)
         steps.append(_step(sol, time.perf_counter() - t0))
         if not sol.converged:

@@ -74,6 +74,7 @@ COMMON_LABELS = {
     "integration_error_m": Label("integration error, position", "m"),
     "integration_error_m_s": Label("integration error, speed", "m/s"),
     "stages": Label("solve stages"),
+    "continuation_steps": Label("continuation steps"),
     "starts": Label("initial guesses"),
     "converged_starts": Label("converged guesses"),
     "distinct_optima": Label("distinct optima"),

@@ -10,9 +10,9 @@ from typing import Protocol
 
 import numpy as np
 
-from .context import ProgressCallback
+from .context import ProgressCallback, SolveContext
 from .ocp import OCP, OCPResult
-from .problem import Method
+from .problem import Method, Param
 from .solution import Solution
 
 
@@ -39,6 +39,15 @@ class SolvableMission(Protocol):
               cancel: threading.Event | None = None, time_limit: float | None = ...,
               verify: bool = True) -> Solution:
         """Solve one request (see `Mission.solve`)."""
+
+    methods: tuple[Method, ...]
+
+    def all_params(self, method: str | None = None) -> tuple[Param, ...]:
+        """The mission's params and the method's own."""
+
+    def solve_validated(self, vals: dict[str, float], m: Method, n: int, backend: str,
+                        warm: Solution | None, ctx: SolveContext) -> Solution:
+        """One solve of a validated request, without its checks or any rescue."""
 
     def check_direct(self, problem: OCP, p: np.ndarray, res: OCPResult) -> dict[str, float]:
         """The re-propagated terminal miss of a general method's answer."""

@@ -68,9 +68,12 @@ def test_lgl_finds_the_true_minimum_to_1e9(pontryagin):
 
 
 def test_papers_angle_form_is_degenerate_from_alpha_zero():
-    # alpha = 0 at every node: d(vx')/d(alpha) = 0, the x-equations cannot be steered.
-    stuck = MISSION.solve({"steering": ANGLE_ONLY}, method="multiple-shooting")
+    # alpha = 0 at every node: d(vx')/d(alpha) = 0, the x-equations cannot be steered (from
+    # the initial guess alone, as the preset solves it: a rescue would walk from the default).
+    stuck = MISSION.solve({"steering": ANGLE_ONLY}, method="multiple-shooting", cold=True)
     assert not stuck.ok
+    rescued = MISSION.solve({"steering": ANGLE_ONLY}, method="multiple-shooting")
+    assert rescued.ok and "continuation from the defaults" in rescued.message
     moved = MISSION.solve({"steering": ANGLE_ONLY, "alpha_guess": 2.0},
                           method="multiple-shooting", backend="ipopt")
     assert moved.ok, moved.message

@@ -17,7 +17,7 @@ from ...ocp import OCP, Bounds, Guess, OCPResult
 from ...problem import Consistency, Param, Preset, Published
 from ...solution import Iterate, Label, Quantity, Solution
 from ...transcription.costates import rescale
-from . import model
+from . import model, reach
 
 DEG = np.pi / 180
 PAPER = "Wang, Cui & Hou 1988, Northwestern Polytechnical University (paper 004)"
@@ -199,7 +199,8 @@ def precheck(values: dict[str, float]) -> None:
     The boundary values must lie inside the state bounds. Gravity is conservative and drag
     (C_D >= 1.174 - 0.9 > 0) only dissipates, so E = v²/2 - g R²/(R + h) cannot rise. And
     ḣ = v sin γ with v <= v_max and γ_min <= γ <= γ_max bounds the climb and the descent
-    over at most T_max."""
+    over at most T_max. An end descending high up needs a top of the path above it, in air
+    too thin to matter (`reach`)."""
     checks = (("v0", "v_min", "v_max"), ("vf", "v_min", "v_max"),
               ("gamma0", "gamma_min", "gamma_max"), ("gammaf", "gamma_min", "gamma_max"))
     for key, lo, hi in checks:
@@ -211,6 +212,7 @@ def precheck(values: dict[str, float]) -> None:
             raise Infeasible(f"{key} = {values[key]:g} m is above h_max = {values['h_max']:g} m")
     _precheck_energy(values)
     _precheck_altitude(values)
+    _precheck_thin_air(values)
 
 
 def _precheck_energy(values: dict[str, float]) -> None:
@@ -241,6 +243,20 @@ def _precheck_altitude(values: dict[str, float]) -> None:
             f"the capsule cannot {word} {abs(change):g} m: with {bound} = "
             f"{values[bound]:g} rad, v ≤ v_max = {values['v_max']:g} m/s and T ≤ T_max = "
             f"{values['T_max']:g} s it changes altitude by at most {limit:.4g} m")
+
+
+def _precheck_thin_air(values: dict[str, float]) -> None:
+    """Ending high up descending (γf < 0) needs a top of the path above hf (`reach`)."""
+    top = reach.top_before_descent(values)
+    if top is None:
+        return
+    where = (f"that top lies at {top:.4g} m or higher" if np.isfinite(top) else
+             "the end state is on an escape path, with no top at all")
+    raise Infeasible(
+        f"to end at hf = {values['hf']:g} m descending (γf = {values['gammaf']:g} rad) the "
+        f"capsule must come over a top of its path after it was last lower, where the air is "
+        f"too thin above hf to change its energy and angular momentum much within T_max = "
+        f"{values['T_max']:g} s: {where}, above the bound h_max = {values['h_max']:g} m")
 
 
 def substeps(nodes: int) -> int:

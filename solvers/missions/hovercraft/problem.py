@@ -15,6 +15,7 @@ from ...optimality import PMP_TRAJECTORY
 from ...problem import Consistency, Param, Preset, Published
 from ...solution import Label
 from .model import STATE_UNITS, STATES, T_LB, T_UB, X_LB, X_UB, rhs_angle, rhs_vector
+from .reach import overshoot, travel_range
 
 DEG = np.pi / 180
 PAPER = "Wang, Cui & Hou 1988, Northwestern Polytechnical University (paper 004)"
@@ -145,10 +146,12 @@ def parameter_vector(values: dict[str, float]) -> np.ndarray:
 def precheck(p: np.ndarray) -> None:
     """Refuse a request that violates a necessary condition of the bounds, naming it.
 
-    Both control forms accelerate by at most A/m (|u| <= 1), so |Δv| <= A/m T <= A/m T_max.
-    And vx >= 0 (the state bound) keeps x from decreasing: with d(vx²)/dt = 2 vx ax and
-    |ax| <= A/m, |vxf² - vx0²| <= 2 A/m (xf - x0), so the speed change along x needs at least
-    |vxf² - vx0²| / (2 A/m) of forward travel."""
+    Both control forms accelerate by at most A/m (|u| <= 1), so |Δv| <= A/m T: the
+    manoeuvre lasts at least T_low = |Δv| / (A/m), and T <= T_max. Along each axis the
+    acceleration is at most A/m too and the speed stays in the state box, which bounds the
+    distance covered in any duration from T_low to T_max (`reach.travel_range`; with vx >= 0
+    x cannot decrease) and the room needed to stop before an edge of the position box or to
+    arrive at the end speed (`reach.overshoot`)."""
     a = float(p[P_A])
     dv = float(np.linalg.norm(p[P_XF][2:] - p[P_X0][2:]))
     if dv / a > T_UB:
@@ -156,18 +159,52 @@ def precheck(p: np.ndarray) -> None:
             f"the velocity change of {dv:.3g} m/s needs at least {dv / a:.3g} s of "
             f"thrust at A/m = {a:g} m/s², beyond the paper's bound T ≤ {T_UB:g} s"
         )
-    (x0, vx0), (xf, vxf) = p[P_X0][::2], p[P_XF][::2]
-    room = float(xf - x0)
-    if room < 0:
+    (x0, xf) = p[P_X0][0], p[P_XF][0]
+    if xf < x0:
         raise Infeasible(f"vx ≥ {X_LB[2]:g} m/s (the state bound) keeps x from decreasing, "
                          f"but the final x = {xf:g} m lies behind the initial x = {x0:g} m")
-    need = abs(float(vxf) ** 2 - float(vx0) ** 2) / (2 * a)
-    if need > room:
-        raise Infeasible(
-            f"changing vx from {vx0:g} to {vxf:g} m/s at A/m = {a:g} m/s² needs at least "
-            f"{need:.3g} m of travel in x (vx ≥ {X_LB[2]:g} m/s: x cannot go back), but only "
-            f"{room:.3g} m remain between x0 = {x0:g} m and xf = {xf:g} m"
-        )
+    t_low = max(dv / a, T_LB)
+    for axis in (0, 1):
+        _precheck_edges(p, axis, a, t_low)
+        _precheck_travel(p, axis, a, t_low)
+
+
+def _precheck_edges(p: np.ndarray, axis: int, a: float, t_low: float) -> None:
+    """Braking before an edge of the position box at the start; time reversed, arriving at
+    the end speed from inside the box."""
+    name, lo, hi = STATES[axis], X_LB[axis], X_UB[axis]
+    for when, state, sign in (("initial", p[P_X0], 1.0), ("final", p[P_XF], -1.0)):
+        pos, v = float(state[axis]), float(state[axis + 2])
+        out = overshoot(pos, sign * v, lo, hi, a, t_low)
+        if out > 1e-9:
+            edge = hi if sign * v > 0 else lo
+            how = (f"moving at {v:g} m/s it needs {abs(pos - edge) + out:.3g} m to stop" if
+                   sign > 0 else f"arriving at {v:g} m/s it needs {abs(pos - edge) + out:.3g} "
+                   "m of run-up")
+            raise Infeasible(
+                f"the {when} {name} = {pos:g} m is {abs(pos - edge):.3g} m from the edge "
+                f"{name} {'≤' if edge == hi else '≥'} {edge:g} m (the state box), but {how} "
+                f"at A/m = {a:g} m/s²")
+
+
+def _precheck_travel(p: np.ndarray, axis: int, a: float, t_low: float) -> None:
+    """The distance from the initial to the final position along `axis`, within what
+    |acceleration| <= A/m and the speed bounds allow in T_low <= T <= T_max."""
+    name, speed = STATES[axis], STATES[axis + 2]
+    v0, vf = float(p[P_X0][axis + 2]), float(p[P_XF][axis + 2])
+    lo, hi = X_LB[axis + 2], X_UB[axis + 2]
+    least, most = travel_range(v0, vf, lo, hi, a, (t_low, T_UB))
+    distance = float(p[P_XF][axis] - p[P_X0][axis])
+    if least <= distance + 1e-9 and distance <= most + 1e-9:
+        return
+    bound = f"{speed} ≥ {lo:g} m/s" if distance < least else f"{speed} ≤ {hi:g} m/s"
+    raise Infeasible(
+        f"changing {speed} from {v0:g} to {vf:g} m/s at A/m = {a:g} m/s² in a manoeuvre of "
+        f"{t_low:.3g} s (the least the velocity change takes) to {T_UB:g} s (the bound on T), "
+        f"with {bound} (the state bound), moves {name} by "
+        + (f"at least {least:.3g} m, but only {distance:.3g} m remain between {name}0 and "
+           f"{name}f" if distance < least else
+           f"at most {most:.3g} m, but {distance:.3g} m separate {name}0 and {name}f"))
 
 
 def _bounds(p: np.ndarray, vector: bool) -> Bounds:

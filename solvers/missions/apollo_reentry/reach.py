@@ -1,0 +1,71 @@
+"""The thin-air arc: a necessary condition of the reentry's precheck (issue 17), proved from
+the model's equations (`model.rhs`) in SI.
+
+Gravity is central and conservative, so only the aerodynamic force changes the energy
+E = v²/2 - μ/r and the angular momentum H = r v cos γ. Above an altitude h* it is at most
+a* = (S/m) ρ(h*) v_max² √(C_D,max² + C_L,max²) / 2, so in the T <= T_max of the manoeuvre it
+changes E by at most v_max a* T_max and H by at most r_max a* T_max. In any state r lies
+between the roots r_p <= r_a of E r² + μ r - H²/2 = 0 (v >= H/r), and at a top of the path
+(γ = 0) r is one of them (r_a = ∞ when E >= 0).
+
+A capsule that ends at hf descending (γf < 0) and was ever below hf (it started there, or its
+E and H could not have stayed that near the end's in air that thin) came over a top after
+it was last below hf: there γ = 0 and r > r_f, all in air no denser than at hf. If r_p < r_f
+for every E, H that near the end's, that top is r_a, and when r_a lies above h_max for all
+of them, no such path exists.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import model
+
+LU, RE = model.LENGTH_UNIT, model.R_EARTH
+MU = model.G * LU * RE**2  # m³/s²: g R² of the model's inverse-square gravity
+SCALE_HEIGHT = LU / model.BETA  # m: ρ = ρ0 exp(-h / SCALE_HEIGHT)
+KAPPA = model.S_OVER_M * model.RHO0 / LU  # 1/m: (S/m) ρ at h = 0, SI
+
+
+def energy_momentum(v: float, gamma: float, h: float) -> tuple[float, float]:
+    """E = v²/2 - μ/r (J/kg) and H = r v cos γ (m²/s)."""
+    r = RE + h
+    return v * v / 2 - MU / r, r * v * float(np.cos(gamma))
+
+
+def apsides(e: float, h: float) -> tuple[float, float]:
+    """The radii r_p <= r_a between which a state of energy e and angular momentum h lies
+    (r_a = inf for e >= 0; (nan, nan) for no state)."""
+    q2 = MU * MU + 2 * e * h * h
+    if q2 < 0:
+        return float("nan"), float("nan")
+    q = float(np.sqrt(q2))
+    return h * h / (MU + q), (MU + q) / (-2 * e) if e < 0 else float("inf")
+
+
+def thin_air_change(values: dict[str, float], h: float) -> tuple[float, float]:
+    """How much E and H can change above altitude h within T_max (J/kg, m²/s)."""
+    cd = model.C1 - model.C2 * np.cos(values["u_max"])
+    cl = model.C3 * np.sin(values["u_max"])
+    a = KAPPA * np.exp(-h / SCALE_HEIGHT) * values["v_max"] ** 2 * np.hypot(cd, cl) / 2
+    return (float(values["v_max"] * a * values["T_max"]),
+            float((RE + values["h_max"]) * a * values["T_max"]))
+
+
+def top_before_descent(values: dict[str, float]) -> float | None:
+    """The lowest altitude of the top a capsule ending at hf with γf < 0 must have come over
+    (m), when it lies above h_max (see the module); None when no such proof holds."""
+    hf = values["hf"]
+    if values["gammaf"] >= 0:
+        return None
+    e_f, h_f = energy_momentum(values["vf"], values["gammaf"], hf)
+    d_e, d_h = thin_air_change(values, hf)
+    if values["h0"] >= hf:  # it may have stayed above hf, unless E or H must change more
+        e_0, h_0 = energy_momentum(values["v0"], values["gamma0"], values["h0"])
+        if abs(e_0 - e_f) <= d_e and abs(h_0 - h_f) <= d_h:
+            return None
+    # r_p grows and r_a falls with H and with -E: both extremes at (E - dE, H + dH).
+    r_p, r_a = apsides(e_f - d_e, h_f + d_h)
+    if not (r_p < RE + hf and r_a > RE + values["h_max"]):
+        return None
+    return r_a - RE
