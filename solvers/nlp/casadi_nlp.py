@@ -53,8 +53,12 @@ _SQP = {
     "print_iteration": False,
     "print_status": False,
     "qpsol": "qrqp",
+    # A time limit is checked between SQP iterations, so one QP must stay short: a qrqp
+    # iteration costs ~35 ms on lunar landing's 30-interval multiple-shooting NLP, and its
+    # default of 1000 held one SQP iteration 35 s past a 4 s limit off the defaults. The
+    # missions' SQP solves take the same steps with 100 (costs and iteration counts equal).
     "qpsol_options": {"print_iter": False, "print_header": False, "print_info": False,
-                      "error_on_fail": False},
+                      "error_on_fail": False, "max_iter": 100},
     # The exact Hessian with CasADi's convexification stalls on these problems; a BFGS
     # Hessian converges (slower than IPOPT: a teaching point, not the default).
     "hessian_approximation": "limited-memory",
