@@ -15,7 +15,12 @@ solve's own time limit, and what found the answer is said in its message:
    another general method of the mission that converges from its own guess, its nodes
    re-interpolated; any method from its own other back ends (when the chosen back end does
    not converge even from there, the other's answer is shown, said so).
-3. Other guesses. A few cold starts with the guess parameters (`Param.guess`) at their
+3. A stand-in. A mission's own method (a paper's) that still fails may be unable to
+   represent the optimum at all (lunar landing's integral transformation needs the thrust
+   to keep braking the orbital rate, d ϖ/dt > 0, which an optimum with ψ reaching 90° does
+   not): a general method's answer to the same problem is shown instead, said so (never for
+   a method that answers another problem, `Method.other_problem`).
+4. Other guesses. A few cold starts with the guess parameters (`Param.guess`) at their
    defaults, then spread over their ranges (`multistart.guess_values`).
 
 When all fail, the answer stays `failed` and says where continuation stalled and the last
@@ -80,8 +85,9 @@ def rescue(request: Case, warm: Solution | None, failed: Solution, ctx: SolveCon
     than `warm`'s: a warm start of the same case that fails, such as a refinement step, is
     the walk's last step already); else the request solved by continuation, a seed or
     another guess (its message says which and how the initial guess had failed), or
-    `failed` with what was tried. Continuation may spend half of the time left, a seed two
-    thirds of what then remains, other guesses the rest."""
+    `failed` with what was tried. Continuation may spend half of the time left, a seed half
+    of what then remains, a stand-in half of the rest (the general methods are quick: a
+    paper's own method may take seconds a start), other guesses what is left."""
     if failed.status not in RESCUED or (warm is not None and warm.converged
                                          and warm.values == request.values):
         return failed
@@ -93,7 +99,7 @@ def rescue(request: Case, warm: Solution | None, failed: Solution, ctx: SolveCon
             steps = f"{walk.steps} step{'s' if walk.steps != 1 else ''}"
             return _found(request, walk.solved, failed, f"reached by continuation from "
                           f"{walk.origin} in {steps}", continuation_steps=walk.steps)
-    for finder, share in ((_seeded, 2 / 3), (_restarted, 1.0)):
+    for finder, share in ((_seeded, 1 / 2), (_stand_in, 1 / 2), (_restarted, 1.0)):
         found = None if ctx.should_stop() else finder(request, _share(ctx, share), tried)
         if found is not None:
             return _found(request, found[0], failed, found[1])
@@ -235,6 +241,26 @@ def _restarted(request: Case, ctx: SolveContext, tried: list[str]
             return sol, f"found from another initial guess ({used})"
     if points and count:
         tried.append(f"{count} other initial guess{'es' if count > 1 else ''}")
+    return None
+
+
+def _stand_in(request: Case, ctx: SolveContext, tried: list[str]
+              ) -> tuple[Solution, str] | None:
+    """For a mission's own method that failed: the first general method of the mission
+    that converges on the request from its own guess (at its default node count), or None."""
+    m = request.method
+    if m.transcription is not None or m.other_problem:
+        return None
+    for other in request.mission.methods:
+        if other.transcription is None or ctx.should_stop():
+            continue
+        tried.append(f"{other.label} as a stand-in")
+        sol = request.mission.solve_validated(request.values, other, other.nodes[1],
+                                              other.default_backend, None, ctx)
+        if sol.converged:
+            return sol, (f"{m.label} did not converge on this case, so the answer of "
+                         f"{other.label} to the same problem is shown (its method is named "
+                         "in the answer)")
     return None
 
 

@@ -100,6 +100,9 @@ class Method:
     equations: tuple[tuple[str, str], ...] = ()
     transcription: str | None = None
     options: tuple[tuple[str, int], ...] = ()  # transcription options, e.g. (("substeps", 4),)
+    # True: the method answers another problem than the mission's OCP (the asteroid's
+    # impulsive first stage), so no other method's answer may stand in for it.
+    other_problem: bool = False
 
     def __post_init__(self) -> None:
         for key in self.backends:

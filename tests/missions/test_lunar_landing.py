@@ -210,3 +210,20 @@ def test_cli_bad_input_exits_2_with_one_line(args):
     assert out.returncode == 2
     assert out.stderr.count("\n") == 1 and out.stderr.startswith("error:")
     assert "Traceback" not in out.stderr
+
+
+def test_the_papers_method_hands_an_optimum_it_cannot_represent_to_a_general_method():
+    """Paper 002's integral transformation takes ϖ = -ω as the independent variable, so it
+    needs d ϖ/dt = (F/m cos ψ + 2 v ω) / r > 0 all along. In this case (found by the fuzz
+    of issue 17) the optimum steers ψ up to 90° while ω is ~0, d ϖ/dt reaches 0, and the
+    paper's method fails from every start; a general method's answer stands in, said so."""
+    values = {"altitude0": 51349.5, "omega_source": 0.0, "omega0": 7.92665e-4,
+              "apolune_altitude": 1009838.0, "mass0": 3018.1, "thrust": 1698.77,
+              "exhaust_speed": 4286.5, "sigma0": 647.5, "psi_guess": 1.29}
+    sol = MISSION.solve(values, method="paper", time_limit=30)
+    assert sol.ok and sol.method in ("hermite-simpson", "multiple-shooting"), sol.message
+    assert "did not converge on this case, so the answer of" in sol.message
+    r, v, _, omega, m = np.asarray(sol.x).T
+    psi = np.asarray(sol.u)[:, 0]
+    rate = (values["thrust"] / m * np.cos(psi) + 2 * v * omega) / r
+    assert rate.min() < 1e-3 * rate.max(), "the optimum stays inside the paper's domain"

@@ -78,6 +78,7 @@ IMPULSIVE = Method(
     "The first stage alone: the particle swarm's best impulsive transfer of the chosen kind; "
     "cost is the spacecraft Δv after launch (launch v∞ within the C3 bound).",
     nodes=(20, 200, 2000), nodes_label="drawing samples", backends=("pso",),
+    other_problem=True,
 )
 
 
