@@ -8,7 +8,8 @@ solve service's worker processes, as bench_live_latency.py does, then drags one 
 each mission the way a hand does: `--rate` drag events a second for `--seconds` s through
 the explorer's handle path (`Handles.drag`: clamping, `session.set_values`, newest request
 wins), the handle sweeping steadily along its first free axis from half a gizmo arm before
-where it started to half an arm beyond (so no drag event repeats another's values). A
+where it started to half an arm beyond (no drag event repeats another's values, except
+where the drag stops at a range's end: the distinct values per second are printed too). A
 watcher notes every drawing of a solution whose bound values are those of a drag event: the
 new optima shown per second, and the drag-to-drawn latency (from that event to the drawing)
 p50/p95. The issue's target: at least 10 new optima a second (at `--rate` events a second
@@ -59,9 +60,11 @@ class _Watcher(threading.Thread):
             time.sleep(0.0005)
 
 
-def drag(view, key: str, seconds: float, rate: float) -> tuple[float, list[float]]:
-    """Drag handle `key` for `seconds` at `rate` events/s: (new optima shown per second,
-    drag-to-drawn latencies in s)."""
+def drag(view, key: str, seconds: float, rate: float
+         ) -> tuple[float, float, list[float]]:
+    """Drag handle `key` for `seconds` at `rate` events/s: (distinct values the drag set per
+    second — fewer than the events where it stops at a range's end —, new optima shown per
+    second, drag-to-drawn latencies in s)."""
     handles, session = view.handles, view.session
     drawn = handles.drawn[key]
     params = drawn.handle.params
@@ -86,7 +89,7 @@ def drag(view, key: str, seconds: float, rate: float) -> tuple[float, list[float
     watcher.join()
     shown = [(values, at) for values, at in watcher.drawings if values in sent]
     latencies = [at - sent[values] for values, at in shown]
-    return len({values for values, _ in shown}) / elapsed, latencies
+    return len(sent) / elapsed, len({values for values, _ in shown}) / elapsed, latencies
 
 
 def _percentile(values: list[float], q: float) -> float:
@@ -117,8 +120,8 @@ def main(argv: list[str] | None = None) -> None:
     service.wait_ready()
     runner = ServiceRunner(service)
     server = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)
-    print(f"{'mission':16s} {'method':18s} {'nodes':>5s} {'events/s':>8s} {'optima/s':>8s} "
-          f"{'p50 ms':>7s} {'p95 ms':>7s}")
+    print(f"{'mission':16s} {'method':18s} {'nodes':>5s} {'events/s':>8s} {'values/s':>8s} "
+          f"{'optima/s':>8s} {'p50 ms':>7s} {'p95 ms':>7s}")
     try:
         for key in args.mission:
             mission = get_mission(key)
@@ -126,11 +129,12 @@ def main(argv: list[str] | None = None) -> None:
             view = make_view(server, missions, mission, method, runner)
             try:
                 view.session.wait_idle(300.0)
-                rate, latencies = drag(view, HANDLE[key], args.seconds, args.rate)
+                values, rate, latencies = drag(view, HANDLE[key], args.seconds, args.rate)
                 p50 = statistics.median(latencies) if latencies else math.nan
                 p95 = _percentile(latencies, 0.95) if latencies else math.nan
                 print(f"{key:16s} {view.session.method:18s} {view.session.nodes:5d} "
-                      f"{args.rate:8.1f} {rate:8.1f} {1e3 * p50:7.1f} {1e3 * p95:7.1f}",
+                      f"{args.rate:8.1f} {values:8.1f} {rate:8.1f} {1e3 * p50:7.1f} "
+                      f"{1e3 * p95:7.1f}",
                       flush=True)
             finally:
                 view.close()
