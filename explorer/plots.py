@@ -15,6 +15,8 @@ import plotly.io as pio
 
 from solvers.presentation import GridMap, PlotSeries
 
+from .panels.status import unit_text
+
 GROUP_COLORS = {"state": "#00c8ff", "control": "#ff8c00", "costate": "#c890ff"}
 REFERENCE_COLOR = "#ff78c8"  # palette.REFERENCE: an independent optimum, dashed
 OTHER_COLOR = "#b0e060"
@@ -127,7 +129,7 @@ def _layout(titles_src: Sequence[PlotSeries], dark: bool, legend: bool, time_uni
         layout[_axis("xaxis", i)] = xaxis
         layout[_axis("yaxis", i)] = {"domain": _unit_interval(y1 - height, y1),
                                      "anchor": _axis("x", i)}
-        title = f"{s.title} [{s.unit}]" if s.unit else s.title
+        title = f"{s.title} [{unit_text(s.unit)}]" if s.unit else s.title
         layout["annotations"].append({
             "text": title, "x": x0 + width / 2, "y": y1, "xref": "paper", "yref": "paper",
             "xanchor": "center", "yanchor": "bottom", "showarrow": False, "font": {"size": 11}})

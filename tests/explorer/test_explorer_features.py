@@ -23,7 +23,7 @@ from explorer.player import Track, quaternion_from_axes
 from explorer.plots import figure_tree
 from explorer.readouts import readouts
 from explorer.session import COLD_FACTOR, Session
-from solvers.presentation import Body, ColorBy, Marker, Presentation
+from solvers.presentation import Body, ColorBy, Marker, PlotSeries, Presentation
 from solvers.solution import Quantity, Solution
 
 TF_PAPER = 398.03868  # s, paper 002 table 1
@@ -451,3 +451,15 @@ def test_marked_points_at_one_spot_share_one_label():
     names = [(m[0], m[3]) for m in build_geometry(pres, np.arange(2.0), []).markers]
     assert names == [("launch 2022-11-30 · arrival 2023-11-29", True), ("", True),
                      ("tick", False), ("far", True)]
+
+
+def test_plot_titles_print_units_with_superscripts():
+    """A plot title shows "mm/s²", as the status line does, not the data's "mm/s^2" (a
+    student saw the caret in the elliptic transfer's plots)."""
+    t = np.linspace(0.0, 1.0, 5)
+    series = [PlotSeries("|u|", "mm/s^2", t, t)]
+    layout = figure_tree(series)["layout"]
+    titles = [a["text"] for a in layout.get("annotations", [])] + [
+        v.get("title", {}).get("text", "") for k, v in layout.items() if k.startswith("yaxis")]
+    assert any("mm/s²" in title for title in titles), titles
+    assert not any("^" in title for title in titles), titles
