@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 import numbers
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 import casadi as ca
@@ -81,39 +81,45 @@ def _state_ends(s: State, values: Mapping[str, float]) -> tuple[float, float]:
     return float(start), float(end)
 
 
-def state_guess(decl: Declaration, values: Mapping[str, float], tau: np.ndarray
-                ) -> np.ndarray:
-    """(len(tau), nx) cold-start states at the normalised times `tau`."""
+def _control_ends(c: Control, values: Mapping[str, float]) -> tuple[float, float]:
+    """(start, end) of a control without a guess function: its pair, its constant, or the
+    middle of its bounds."""
+    if c.guess is None:
+        start = end = _mid(*(resolve(b, values) for b in c.bounds))
+    elif isinstance(c.guess, tuple):
+        start, end = c.guess
+    else:
+        start = end = c.guess
+    return float(start), float(end)
+
+
+def _columns(records: Sequence[State] | Sequence[Control], kind: str, decl: Declaration,
+             values: Mapping[str, float], tau: np.ndarray,
+             ends: Callable[[Any, Mapping[str, float]], tuple[float, float]]) -> np.ndarray:
+    """(len(tau), len(records)) guesses: a guess function sampled, else a ramp between
+    `ends`."""
     tau = np.asarray(tau, float)
     p = _parameters(decl, values)
     columns = []
-    for s in decl.states:
-        if callable(s.guess):
-            columns.append(_sampled(s, "state", tau, p))
+    for r in records:
+        if callable(r.guess):
+            columns.append(_sampled(r, kind, tau, p))
         else:
-            start, end = _state_ends(s, values)
+            start, end = ends(r, values)
             columns.append(start + tau * (end - start))
     return np.column_stack(columns)
+
+
+def state_guess(decl: Declaration, values: Mapping[str, float], tau: np.ndarray
+                ) -> np.ndarray:
+    """(len(tau), nx) cold-start states at the normalised times `tau`."""
+    return _columns(decl.states, "state", decl, values, tau, _state_ends)
 
 
 def control_guess(decl: Declaration, values: Mapping[str, float], tau: np.ndarray
                   ) -> np.ndarray:
     """(len(tau), nu) cold-start controls at the normalised times `tau`."""
-    tau = np.asarray(tau, float)
-    p = _parameters(decl, values)
-    columns = []
-    for c in decl.controls:
-        if callable(c.guess):
-            columns.append(_sampled(c, "control", tau, p))
-            continue
-        if c.guess is None:
-            start = end = _mid(*(resolve(b, values) for b in c.bounds))
-        elif isinstance(c.guess, tuple):
-            start, end = c.guess
-        else:
-            start = end = c.guess
-        columns.append(float(start) + tau * (float(end) - float(start)))
-    return np.column_stack(columns)
+    return _columns(decl.controls, "control", decl, values, tau, _control_ends)
 
 
 def check_guesses(decl: Declaration) -> None:

@@ -9,10 +9,11 @@ import math
 import casadi as ca
 import numpy as np
 import pytest
+from core_ocps import double_integrator
 
 import solvers
 from solvers.context import SolveContext
-from solvers.ocp import OCP, Bounds, Guess
+from solvers.ocp import OCP
 from solvers.problem import Param, validate_values
 from solvers.solution import Quantity, Solution
 from solvers.transcription.hermite_simpson import HermiteSimpson
@@ -89,31 +90,9 @@ def test_repropagate_matches_harmonic_oscillator():
     assert np.allclose(X[:, 1], -w * np.sin(w * t), atol=1e-9)
 
 
-def _double_integrator(min_time: bool) -> OCP:
-    """x'' = u from rest at 0 to rest at 1: min-energy (T = 1: u = 6 - 12 t, J = 6) or
-    min-time with |u| <= 1 (T = 2, bang-bang)."""
-    def bounds(p):
-        ulim = 1.0 if min_time else 50.0
-        return Bounds(np.array([-5.0, -5.0]), np.array([5.0, 5.0]), np.array([-ulim]),
-                      np.array([ulim]), 0.1, 10.0)
-
-    return OCP(
-        states=("x", "v"), controls=("u",), n_params=1,
-        dynamics=lambda x, u, p: ca.vertcat(x[1], u[0]),
-        initial_state=lambda p: ca.vertcat(0, 0),
-        terminal=lambda xf, p: ca.vertcat(xf[0] - 1, xf[1]),
-        bounds=bounds,
-        guess=lambda p: Guess(np.array([1.0, 0.0]), np.array([0.0]), 1.5),
-        x_scale=np.ones(2), u_scale=np.ones(1), T_scale=1.0, terminal_scale=np.ones(2),
-        mayer=(lambda xf, T, p: T) if min_time else None,
-        lagrange=None if min_time else (lambda x, u, p: 0.5 * u[0] ** 2),
-        fixed_final_time=None if min_time else (lambda p: 1.0),
-    )
-
-
 @pytest.mark.parametrize("cls", [HermiteSimpson, MultipleShooting])
 def test_min_energy_double_integrator_analytic_optimum(cls):
-    res = cls(_double_integrator(False), 10).solve(np.zeros(1))
+    res = cls(double_integrator(), 10).solve(np.zeros(1))
     assert res.status == "optimal"
     # Analytic: u(t) = 6 - 12 t, J = 1/2 * integral of u^2 = 6 (linear u is exact in both).
     assert res.cost == pytest.approx(6.0, rel=1e-8)
@@ -122,7 +101,7 @@ def test_min_energy_double_integrator_analytic_optimum(cls):
 
 @pytest.mark.parametrize("cls", [HermiteSimpson, MultipleShooting])
 def test_min_time_double_integrator_and_warm_restart(cls):
-    ocp = _double_integrator(True)
+    ocp = double_integrator(min_time=True)
     res = cls(ocp, 20).solve(np.zeros(1))
     # Analytic: bang-bang, T = 2. A control linear between nodes cannot switch instantly,
     # so the discrete optimum lies slightly above 2 and approaches it as the mesh refines.
@@ -144,7 +123,7 @@ def test_cancelled_context_stops_the_nlp():
     event = threading.Event()
     event.set()
     with pytest.raises(Cancelled):
-        HermiteSimpson(_double_integrator(True), 20).solve(
+        HermiteSimpson(double_integrator(min_time=True), 20).solve(
             np.zeros(1), ctx=SolveContext(cancel=event)
         )
 
@@ -210,7 +189,7 @@ def test_ocp_functions_follow_the_object_not_a_recycled_id():
     import gc
 
     for _ in range(50):
-        small = _double_integrator(True)
+        small = double_integrator(min_time=True)
         assert small.functions().f.size1_in(0) == 2
         del small
         gc.collect()

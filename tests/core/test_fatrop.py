@@ -6,46 +6,14 @@ from __future__ import annotations
 
 import threading
 
-import casadi as ca
 import numpy as np
 import pytest
+from core_ocps import double_integrator
 
 import solvers
 from solvers.context import Cancelled, SolveContext
 from solvers.nlp.backends import backend
-from solvers.ocp import OCP, Bounds, Guess
 from solvers.transcription import HermiteSimpson, LGLPseudospectral, MultipleShooting
-
-
-def _double_integrator(min_time: bool = False, v_max: float | None = None,
-                       boundary: bool = False) -> OCP:
-    """x'' = u from rest at 0 to rest at 1. Min-energy on T = 1 (u = 6 - 12 t, J = 6; the
-    speed peaks at 1.5 mid-way, so a path bound v <= v_max < 1.5 is active) or min-time with
-    |u| <= 1 (T = 2, bang-bang). `boundary`: the end point as a boundary condition on
-    (x0, xf) instead of a terminal one."""
-    def bounds(p):
-        ulim = 1.0 if min_time else 50.0
-        return Bounds(np.array([-5.0, -5.0]), np.array([5.0, 5.0]), np.array([-ulim]),
-                      np.array([ulim]), 0.1, 10.0)
-
-    return OCP(
-        states=("x", "v"), controls=("u",), n_params=1,
-        dynamics=lambda x, u, p: ca.vertcat(x[1], u[0]),
-        initial_state=lambda p: ca.vertcat(0, 0),
-        terminal=None if boundary else (lambda xf, p: ca.vertcat(xf[0] - 1, xf[1])),
-        terminal_scale=np.ones(0 if boundary else 2),
-        boundary=(lambda pt, p: ca.vertcat(pt.xf[0] - pt.x0[0] - 1, pt.xf[1])) if boundary
-        else None,
-        boundary_lb=np.zeros(2), boundary_ub=np.zeros(2),
-        bounds=bounds,
-        guess=lambda p: Guess(np.array([1.0, 0.0]), np.array([0.0]), 1.5),
-        x_scale=np.ones(2), u_scale=np.ones(1), T_scale=1.0,
-        mayer=(lambda xf, T, p: T) if min_time else None,
-        lagrange=None if min_time else (lambda x, u, p: 0.5 * u[0] ** 2),
-        fixed_final_time=None if min_time else (lambda p: 1.0),
-        path=(lambda x, u, p: x[1]) if v_max is not None else None,
-        path_lb=np.array([-np.inf]), path_ub=np.array([v_max if v_max is not None else 0.0]),
-    )
 
 
 def test_fatrop_is_a_registered_nlp_back_end():
@@ -54,7 +22,7 @@ def test_fatrop_is_a_registered_nlp_back_end():
 
 @pytest.mark.parametrize("cls", [HermiteSimpson, MultipleShooting])
 def test_min_energy_analytic_optimum(cls):
-    res = cls(_double_integrator(), 10, "fatrop").solve(np.zeros(1))
+    res = cls(double_integrator(), 10, "fatrop").solve(np.zeros(1))
     assert res.status == "optimal", res.message
     assert res.cost == pytest.approx(6.0, rel=1e-8)
     assert np.allclose(res.U[:, 0], 6 - 12 * res.t_nodes, atol=1e-6)
@@ -70,7 +38,7 @@ def test_active_path_bound_and_multipliers_match_ipopt(cls, options):
     multiplier and the costates equal IPOPT's on the same NLP. FATROP keeps its relaxation
     of inequality bounds (1e-8, relative): the bound holds to 1.2e-8 where IPOPT's holds to
     1e-9, and the cost (multipliers 19 in all) is 2e-7 lower."""
-    ocp = _double_integrator(v_max=1.2)
+    ocp = double_integrator(v_max=1.2)
     ipopt = cls(ocp, 12, "ipopt", **options).solve(np.zeros(1))
     fatrop = cls(ocp, 12, "fatrop", **options).solve(np.zeros(1))
     assert ipopt.status == fatrop.status == "optimal", fatrop.message
@@ -88,7 +56,7 @@ def test_active_path_bound_and_multipliers_match_ipopt(cls, options):
 def test_min_time_and_warm_restart(cls):
     """Free final time (copied into every stage) and active control bounds; a warm
     re-solve from the optimum takes a few iterations and returns it."""
-    ocp = _double_integrator(min_time=True)
+    ocp = double_integrator(min_time=True)
     ipopt = cls(ocp, 20, "ipopt").solve(np.zeros(1))
     res = cls(ocp, 20, "fatrop").solve(np.zeros(1))
     assert res.status == "optimal", res.message
@@ -100,11 +68,11 @@ def test_min_time_and_warm_restart(cls):
 
 def test_a_method_without_stage_structure_is_refused():
     with pytest.raises(ValueError, match="'fatrop' needs the NLP in stage order"):
-        LGLPseudospectral(_double_integrator(), 10, "fatrop")
+        LGLPseudospectral(double_integrator(), 10, "fatrop")
 
 
 def test_boundary_conditions_coupling_the_ends_are_refused():
-    ocp = _double_integrator(boundary=True)
+    ocp = double_integrator(boundary=True)
     assert HermiteSimpson(ocp, 10, "ipopt").solve(np.zeros(1)).cost == pytest.approx(6.0)
     with pytest.raises(ValueError, match="boundary conditions tie the first node to the last"):
         HermiteSimpson(ocp, 10, "fatrop")
@@ -123,5 +91,5 @@ def test_a_cancelled_request_does_not_start_fatrop():
     event = threading.Event()
     event.set()
     with pytest.raises(Cancelled):
-        HermiteSimpson(_double_integrator(), 10, "fatrop").solve(
+        HermiteSimpson(double_integrator(), 10, "fatrop").solve(
             np.zeros(1), ctx=SolveContext(cancel=event))
