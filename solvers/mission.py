@@ -194,12 +194,10 @@ class Mission:
         "auto" solve always checks: refinement needs the miss).
 
         `time_limit` (s; default `DEFAULT_TIME_LIMIT`, None or 0: none) bounds the solve and
-        its check together: the solver stops at its first iteration past the limit, and the
-        check (deferred or not) gets what is left and stops when that is spent. In this
-        process the limit is cooperative: it is consulted between solver iterations and at
-        every step of the check's integrations, so a single native solver iteration is not
-        interrupted. For a hard limit, solve through `solvers.service` (the CLI and the
-        explorer do): a solve still running 1 s past its limit is killed with its worker.
+        its check together (the check gets what is left). In this process the limit is
+        cooperative, consulted between solver iterations and at every integration step;
+        for a hard limit solve through `solvers.service` (the CLI and the explorer do): a
+        solve still running 1 s past its limit is killed with its worker.
         """
         time_limit = time_limit or None
         if nodes == "auto":
@@ -216,6 +214,12 @@ class Mission:
         sol = self.solve_validated(vals, m, n, backend, warm, ctx)
         if not cold:  # a failure rescued by continuation or another method's seed
             sol = rescue(Case(self, vals, m, n, backend), warm, sol, ctx)
+        return self._finish(sol, m, targets, ctx, verify)
+
+    def _finish(self, sol: Solution, m: Method, targets: dict[str, float],
+                ctx: SolveContext, verify: bool) -> Solution:
+        """An answer's stats, targets and labels; its cost error estimate attached and its
+        check bounded by what is left of the time limit (run now when `verify`)."""
         sol.stats["wall_s"] = ctx.elapsed()
         sol.stats.setdefault("iterations", ctx.iterations)
         sol.targets = targets
