@@ -18,6 +18,7 @@ import queue
 import signal
 import threading
 import time
+import warnings
 from multiprocessing.connection import Connection
 from typing import Any
 
@@ -103,7 +104,7 @@ class Worker:
                     self.kept.pop(msg[1], None)
                     continue
                 if msg[0] == "reload":
-                    errors = load_mission_files(msg[1])
+                    errors = _load_quietly(msg[1])
                     if errors:
                         self.send(("mission-errors", errors))
                     continue
@@ -237,11 +238,20 @@ def prebuild_pairs(prebuild: Prebuild) -> list[tuple[str, str]]:
     return [(m.key, meth.key) for m in missions for meth in m.methods]
 
 
+def _load_quietly(paths: list[str]) -> dict[str, Any]:
+    """Load mission files without their warnings: the process that started the service
+    loaded the same files and showed them once (a worker repeating them printed each
+    warning once more per worker)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        return load_mission_files(paths)
+
+
 def worker_main(conn: Connection, mission_files: list[str], prebuild: Prebuild,
                 rss_budget: int, test_hooks: bool) -> None:
     """Entry point of a worker process."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the service's to handle
-    errors: dict[str, Any] = load_mission_files(mission_files)
+    errors: dict[str, Any] = _load_quietly(mission_files)
     if errors:
         conn.send(("mission-errors", errors))
     worker = Worker(conn, prebuild_pairs(prebuild), rss_budget, test_hooks)

@@ -371,6 +371,26 @@ def test_an_angle_control_bounded_to_more_than_one_turn_is_warned_about():
         assert declare("m", (-100.0, 100.0)).warnings == ()
 
 
+def test_a_worker_loads_a_file_without_repeating_its_warnings(tmp_path):
+    """The process that starts the service shows a file's warnings; its workers load the
+    same file quietly (the CLI printed the angle warning twice, the explorer once per
+    worker more)."""
+    from solvers.registry import load_mission_files
+    from solvers.service.worker import _load_quietly
+
+    path = _file(tmp_path, GOOD.replace('key="tiny"', 'key="tiny-turns"').replace(
+        'Control("a", "m/s²", bounds=(-1, 1))', 'Control("a", "rad", bounds=(-7, 7))'))
+    try:
+        with pytest.warns(UserWarning, match="can wind"):
+            assert not load_mission_files([str(path)])
+        with warnings.catch_warnings(record=True) as shown:
+            warnings.simplefilter("always")
+            assert not _load_quietly([str(path)])
+    finally:
+        unregister("tiny-turns")
+    assert not [w for w in shown if "can wind" in str(w.message)]
+
+
 # ---- the double integrator: analytic optimum, misses, drawing -------------------------------
 @pytest.fixture(scope="module")
 def double_integrator():
