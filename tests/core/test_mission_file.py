@@ -19,6 +19,7 @@ import pytest
 
 from solvers.mission_file import MissionFileError, load_mission_file
 from solvers.registry import get_mission, load_mission_files, unregister
+from solvers.service.worker import _load_quietly
 from solvers.userproblem import (
     Control,
     DeclarationError,
@@ -375,9 +376,6 @@ def test_a_worker_loads_a_file_without_repeating_its_warnings(tmp_path):
     """The process that starts the service shows a file's warnings; its workers load the
     same file quietly (the CLI printed the angle warning twice, the explorer once per
     worker more)."""
-    from solvers.registry import load_mission_files
-    from solvers.service.worker import _load_quietly
-
     path = _file(tmp_path, GOOD.replace('key="tiny"', 'key="tiny-turns"').replace(
         'Control("a", "m/s²", bounds=(-1, 1))', 'Control("a", "rad", bounds=(-7, 7))'))
     try:
