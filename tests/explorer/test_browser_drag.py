@@ -125,7 +125,7 @@ def test_a_drag_with_no_room_to_brake_names_the_bound_and_dims_the_last_optimum(
     x0 = view.session.values["x0"]
     assert 5.0 - x0 < 25 / 6, f"x0 = {x0} m leaves room to brake"
     assert view.session.latest.status == "infeasible"
-    page.get_by_text("m of travel in x").first.wait_for(timeout=PATIENCE * 1e3)
+    page.get_by_text("remain between x0 and xf").first.wait_for(timeout=PATIENCE * 1e3)
     page.get_by_text("last good trajectory (dimmed)").first.wait_for(timeout=PATIENCE * 1e3)
     # The last good optimum: one solved on the way (intermediate optima show), with room.
     good = view.session.last_good.values["x0"]
