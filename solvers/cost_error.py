@@ -106,13 +106,17 @@ def with_estimate(mission: SolvableMission, sol: Solution, method: Method,
             value, note = math.nan, f"it failed: {exc}"
         sol.cost.error_estimate = value
         sol.stats["cost_error_s"] = time.perf_counter() - started
-        if math.isfinite(value):
-            rtol = min(COST_RTOL, mission.cost_rtol)
-            sol.targets[KEY] = rtol * abs(sol.cost.value)
-            sol.labels[KEY] = Label("estimated cost error", sol.cost.unit)
-            return {**check, KEY: value}
-        sol.message += f" (no cost error estimate: {note})"
-        return check
+        if not math.isfinite(value):
+            sol.message += f" (no cost error estimate: {note})"
+            if reference_nodes(method, sol.nodes) is None:
+                return check
+        # An estimate that was tried and did not come (its second solve failed or ran out
+        # of time) stays in the check as NaN: the answer's cost error is unknown, and
+        # `Solution.judge` does not call it optimal.
+        rtol = min(COST_RTOL, mission.cost_rtol)
+        sol.targets[KEY] = rtol * abs(sol.cost.value)
+        sol.labels[KEY] = Label("estimated cost error", sol.cost.unit)
+        return {**check, KEY: value}
 
     return checked
 

@@ -285,7 +285,9 @@ class Solution:
         if missed:
             worst = ", ".join(f"{k} = {v:.3g} (target {tol:g})" for k, (v, tol) in missed.items())
             why.append(f"re-propagating the control misses {worst}")
-        if cost is not None:
+        if cost is not None and not np.isfinite(cost[0]):
+            why.append("the cost's error is unknown (its estimate did not come)")
+        elif cost is not None:
             why.append(f"the cost's estimated error {cost[0]:.2g} {self.cost.unit} exceeds "
                        f"its target {cost[1]:.2g}".replace("  ", " "))
         self.message += (f" — inaccurate: {'; '.join(why)}; raise the node count or refine "

@@ -103,6 +103,20 @@ def test_a_cost_error_beyond_its_target_is_inaccurate_with_what_to_do() -> None:
     assert "estimated error" in sol.message and "raise the node count" in sol.message
 
 
+
+def test_an_estimate_that_did_not_come_is_not_optimal(monkeypatch) -> None:
+    """A converged answer whose second solve failed or ran out of time has an unknown cost
+    error: not "optimal" (an Apollo case was called optimal with no estimate after its
+    maximum-principle reference had used the whole time limit)."""
+    from solvers import cost_error
+
+    monkeypatch.setattr(cost_error, "estimate",
+                        lambda *a: (math.nan, "the solve with 60 nodes ended failed"))
+    sol = solvers.get_mission("bang-bang").solve(method="lgl")
+    assert sol.status == "inaccurate", sol.message
+    assert "no cost error estimate" in sol.message and "error is unknown" in sol.message
+    assert math.isnan(sol.check[KEY]) and sol.to_dict()["check"][KEY] is None
+
 def test_refine_meets_the_cost_target() -> None:
     """Bang-bang (T* = 2 s, analytic): Hermite–Simpson on 40 nodes is 4e-4 off in T, beyond
     the 1e-4 target; refining from it stops once the estimate meets the target."""

@@ -145,6 +145,34 @@ def test_apollo_climb_within_the_flight_path_bound():
     assert _refused(APOLLO, {**base, "gamma_max": 1.02 * g_crit}) is None
 
 
+
+# A request drawn by `benchmarks/bench_robustness.py --mission apollo-reentry --seed 7` (case 4)
+# that all three methods failed on, 3–11 s each, before the dense-air bound: it ends at 38 km
+# still at 9.2 km/s after at least 185 s, descending no steeper than 4°.
+LOW_FAST_END = {"v0": 10913.99, "gamma0": -0.0529, "h0": 146446.0, "vf": 9195.85,
+                "gammaf": -0.0545, "hf": 38351.8, "u_max": 0.3092, "T_min": 185.03,
+                "T_max": 500.15, "v_min": 2237.46, "v_max": 17997.64, "gamma_min": -0.0695,
+                "gamma_max": 0.2307, "h_max": 181476.8}
+
+
+@pytest.mark.parametrize("method", ["multiple-shooting", "hermite-simpson", "lgl"])
+def test_apollo_low_fast_end_is_refused_by_the_dense_air_bound(method):
+    sol = APOLLO.solve(LOW_FAST_END, method=method)
+    assert sol.status == "infeasible"
+    assert "drag takes at least" in sol.message and "T_min" in sol.message
+
+
+@pytest.mark.parametrize("change", [{}, {"vf": 8000.0}, {"hf": 70e3}, {"gamma0": -0.1}])
+def test_apollo_dense_air_bound_never_refuses_a_solved_trajectory(change):
+    """The bound is a necessary condition: a trajectory the solver found (and re-propagated)
+    satisfies it even when T_min is raised to that trajectory's own duration."""
+    sol = APOLLO.solve({**APOLLO.defaults(), **change}, method="hermite-simpson")
+    assert sol.status in ("optimal", "inaccurate")
+    duration = float(sol.t[-1] - sol.t[0])
+    values = {**sol.values, "T_min": 0.999 * duration,
+              "T_max": max(sol.values["T_max"], 1.01 * duration)}
+    assert _refused(APOLLO, values) is None
+
 # ---- elliptic transfer: the target's perigee above 100 km ----------------------------------
 def test_elliptic_perigee_just_inside_and_past():
     e_crit = 1 - (R_EARTH + MIN_PERIGEE_ALTITUDE) / ELLIPTIC.defaults()["a"]

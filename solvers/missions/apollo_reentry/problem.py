@@ -200,7 +200,8 @@ def precheck(values: dict[str, float]) -> None:
     (C_D >= 1.174 - 0.9 > 0) only dissipates, so E = v²/2 - g R²/(R + h) cannot rise. And
     ḣ = v sin γ with v <= v_max and γ_min <= γ <= γ_max bounds the climb and the descent
     over at most T_max. An end descending high up needs a top of the path above it, in air
-    too thin to matter (`reach`)."""
+    too thin to matter, and a low start or end keeps the capsule in air dense enough for a
+    while that drag takes more than the ends allow (`reach`)."""
     checks = (("v0", "v_min", "v_max"), ("vf", "v_min", "v_max"),
               ("gamma0", "gamma_min", "gamma_max"), ("gammaf", "gamma_min", "gamma_max"))
     for key, lo, hi in checks:
@@ -213,6 +214,7 @@ def precheck(values: dict[str, float]) -> None:
     _precheck_energy(values)
     _precheck_altitude(values)
     _precheck_thin_air(values)
+    _precheck_dense_air(values)
 
 
 def _precheck_energy(values: dict[str, float]) -> None:
@@ -257,6 +259,20 @@ def _precheck_thin_air(values: dict[str, float]) -> None:
         f"capsule must come over a top of its path after it was last lower, where the air is "
         f"too thin above hf to change its energy and angular momentum much within T_max = "
         f"{values['T_max']:g} s: {where}, above the bound h_max = {values['h_max']:g} m")
+
+
+def _precheck_dense_air(values: dict[str, float]) -> None:
+    """Near a low start or end the air is dense: drag takes more energy there within T_min
+    than the ends allow (`reach.dense_air_loss`)."""
+    allowed, forced = reach.dense_air_loss(values)
+    if forced > allowed:
+        raise Infeasible(
+            f"drag takes at least {forced:.4g} J/kg from the capsule near its start and end "
+            f"(in T ≥ T_min = {values['T_min']:g} s it can leave h0 = {values['h0']:g} m and "
+            f"reach hf = {values['hf']:g} m only so fast, with v ≤ v_max = "
+            f"{values['v_max']:g} m/s and gamma in [{values['gamma_min']:g}, "
+            f"{values['gamma_max']:g}] rad), but from v0 to vf it may lose only "
+            f"{allowed:.4g} J/kg: lower T_min, or ask for a slower end")
 
 
 def substeps(nodes: int) -> int:

@@ -69,3 +69,36 @@ def top_before_descent(values: dict[str, float]) -> float | None:
     if not (r_p < RE + hf and r_a > RE + values["h_max"]):
         return None
     return r_a - RE
+
+
+def dense_air_loss(values: dict[str, float], samples: int = 400) -> tuple[float, float]:
+    """(the energy the capsule may lose, E0 - Ef; a lower bound on what drag takes from it
+    near its ends within T_min), both J/kg: a request whose bound exceeds the allowance is
+    impossible.
+
+    E never rises and ends at Ef, so at altitude h the speed is at least
+    v_lo(h) = max(v_min, √(2 (Ef + μ/r))), and C_D >= C1 - C2 > 0: drag takes energy at
+    -dE/dt = (S/m) ρ v³ C_D / 2 >= q(h) = (S/m) ρ(h) v_lo(h)³ (C1 - C2) / 2, which falls
+    with h. The speed is at most V = min(v_max, √(2 (E0 + μ/R))) (h >= 0), so within
+    γ_min <= γ <= γ_max the altitude rises at most V sin γ_max and falls at most
+    V sin(-γ_min) per second: h(t) <= h0 + V sin γ_max t after the start and
+    h(T - s) <= hf + V sin(-γ_min) s before the end (and h <= h_max). Over disjoint arcs
+    [0, a] and [T - b, T], a + b = T_min <= T, drag takes at least ∫₀ᵃ q(h0 + ...) dt +
+    ∫₀ᵇ q(hf + ...) ds; the largest over a is the bound (right Riemann sums, q falling)."""
+    e_0 = energy_momentum(values["v0"], 0.0, values["h0"])[0]
+    e_f = energy_momentum(values["vf"], 0.0, values["hf"])[0]
+    top_speed = min(values["v_max"], float(np.sqrt(2 * (e_0 + MU / RE))))
+    climb = top_speed * np.sin(max(0.0, values["gamma_max"]))
+    fall = top_speed * np.sin(max(0.0, -values["gamma_min"]))
+    cd_min = model.C1 - model.C2
+
+    def q(h: np.ndarray) -> np.ndarray:
+        h = np.minimum(h, values["h_max"])
+        v_lo = np.maximum(np.sqrt(np.maximum(2 * (e_f + MU / (RE + h)), 0.0)), values["v_min"])
+        return KAPPA * np.exp(-h / SCALE_HEIGHT) * v_lo**3 * cd_min / 2
+
+    step = values["T_min"] / samples
+    s = step * np.arange(1, samples + 1)  # right ends of the steps
+    from_start = np.concatenate([[0.0], np.cumsum(q(values["h0"] + climb * s)) * step])
+    to_end = np.concatenate([[0.0], np.cumsum(q(values["hf"] + fall * s)) * step])
+    return e_0 - e_f, float(np.max(from_start + to_end[::-1]))
