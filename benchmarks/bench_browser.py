@@ -16,7 +16,10 @@ records one more update per case with Chromium's tracing (DevTools protocol) and
 where the page's threads spent it: each thread's busy time and its largest kinds of task.
 
     python benchmarks/bench_browser.py [--repeats 7] [--case lunar-landing:hermite-simpson]
-                                       [--by-type] [--trace]
+                                       [--by-type] [--trace] [--second-tab]
+
+`--second-tab` measures every case again with a second explorer tab (its own session) open
+in the same browser, and prints the ratio of the two key → status times.
 """
 
 from __future__ import annotations
@@ -38,7 +41,7 @@ from bench_missions import LIVE_PARAMETER  # noqa: E402
 CASES = (("lunar-landing", "hermite-simpson"), ("lunar-landing", "paper"),
          ("hovercraft", "multiple-shooting"), ("apollo-reentry", "hermite-simpson"),
          ("cw-rendezvous", "paper"), ("elliptic-transfer", "stm-law"),
-         ("asteroid-rendezvous", "hermite-simpson"))
+         ("bang-bang", "hermite-simpson"), ("asteroid-rendezvous", "hermite-simpson"))
 
 # The end of the first frame after a change of the page's text: the frame's callbacks run,
 # then its paint and commit (for a 3D canvas in software, the wait for its pixels); a task
@@ -357,6 +360,36 @@ def _floor_path(value: float) -> np.ndarray:
     return np.stack([pts[:-1], pts[1:]], axis=1).astype(np.float32)
 
 
+def measure_cases(page, view, cases, args, frames: Frames,
+                  floors: tuple[float, float, float]) -> dict[tuple[str, str], float]:
+    """Measure and print every case in the tab; each case's median key → status ms."""
+    from explorer.panels.value_input import label_of
+
+    floor, floor_paint, scene_floor = floors
+    print(f"{'mission':20s} {'method':18s} {'input→status ms':>16s} {'× floor':>8s} "
+          f"{'× scene':>8s} {'picture ms':>11s} {'× floor':>8s} {'long tasks ms':>14s} "
+          f"{'messages':>9s} {'kB':>7s}", flush=True)
+    latencies = {}
+    for key, method in cases:
+        mission = show_case(page, view, key, method)
+        param = next(p for p in mission.params if p.key == LIVE_PARAMETER[key])
+        frames.take()
+        frames.kinds.clear()
+        rows = measure(page, view, key, label_of(param), args.repeats, frames)
+        lat, long_ms, msgs, size, paint = (
+            statistics.median(r[i] for r in rows) for i in (0, 1, 2, 3, 5))
+        latencies[(key, method)] = lat
+        print(f"{key:20s} {method:18s} {lat:16.0f} {lat / floor:8.1f} "
+              f"{lat / scene_floor:8.1f} {paint:11.0f} {paint / floor_paint:8.1f} "
+              f"{long_ms:14.0f} {msgs:9.0f} {size / 1e3:7.0f}", flush=True)
+        if args.by_type:
+            print_kinds(frames.kinds, args.repeats)
+        if args.trace:
+            view.session.wait_idle(60.0)
+            print_breakdown(trace_update(page.context, page, view, label_of(param)))
+    return latencies
+
+
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -366,6 +399,8 @@ def main(argv: list[str] | None = None) -> None:
                         help="trace one more update per case and print the threads' time")
     parser.add_argument("--by-type", action="store_true",
                         help="list each case's messages per update by type and target")
+    parser.add_argument("--second-tab", action="store_true",
+                        help="measure every case again with a second explorer tab open")
     parser.add_argument("--gpu-process", action="store_true",
                         help="composite the (software) WebGL in the GPU process, as a browser "
                              "on a machine with a GPU does (no per-frame readback)")
@@ -374,14 +409,13 @@ def main(argv: list[str] | None = None) -> None:
 
     from explorer.app import ExplorerApp
     from explorer.capture import chromium, close_webgl_toast, free_port, open_tab
-    from explorer.panels.value_input import label_of
 
     app = ExplorerApp("127.0.0.1", free_port())
     app.service.wait_prebuilt()  # measure the classroom after start-up, not during it
     try:
         with chromium(1280, 800, gpu_process=args.gpu_process) as context:
-            floors = measure_floor(context, args.repeats)
-            floor, floor_paint = (statistics.median(f[i] for f in floors) for i in (0, 1))
+            floor_runs = measure_floor(context, args.repeats)
+            floor, floor_paint = (statistics.median(f[i] for f in floor_runs) for i in (0, 1))
             print(f"floor (bare viser page, slider -> markdown): {floor:.0f} ms, picture "
                   f"{floor_paint:.0f} ms", flush=True)
             scenes = measure_floor(context, args.repeats, scene=True)
@@ -389,29 +423,22 @@ def main(argv: list[str] | None = None) -> None:
             print(f"scene floor (the same, moving a path over a lit sphere): "
                   f"{scene_floor:.0f} ms, picture "
                   f"{statistics.median(f[1] for f in scenes):.0f} ms", flush=True)
-            print(f"{'mission':20s} {'method':18s} {'input→status ms':>16s} {'× floor':>8s} "
-                  f"{'× scene':>8s} {'picture ms':>11s} {'× floor':>8s} {'long tasks ms':>14s} "
-                  f"{'messages':>9s} {'kB':>7s}", flush=True)
             frames = Frames()
             page, view = open_tab(app, context)
             close_webgl_toast(page)
             page.evaluate(INSTRUMENT)
-            for key, method in cases:
-                mission = show_case(page, view, key, method)
-                param = next(p for p in mission.params if p.key == LIVE_PARAMETER[key])
-                frames.take()
-                frames.kinds.clear()
-                rows = measure(page, view, key, label_of(param), args.repeats, frames)
-                lat, long_ms, msgs, size, paint = (
-                    statistics.median(r[i] for r in rows) for i in (0, 1, 2, 3, 5))
-                print(f"{key:20s} {method:18s} {lat:16.0f} {lat / floor:8.1f} "
-                      f"{lat / scene_floor:8.1f} {paint:11.0f} {paint / floor_paint:8.1f} "
-                      f"{long_ms:14.0f} {msgs:9.0f} {size / 1e3:7.0f}", flush=True)
-                if args.by_type:
-                    print_kinds(frames.kinds, args.repeats)
-                if args.trace:
-                    view.session.wait_idle(60.0)
-                    print_breakdown(trace_update(context, page, view, label_of(param)))
+            floors = (floor, floor_paint, scene_floor)
+            alone = measure_cases(page, view, cases, args, frames, floors)
+            if args.second_tab:
+                other, _ = open_tab(app, context)  # its own session, on the default mission
+                close_webgl_toast(other)
+                print("\nwith a second tab open in the same browser (its own session):")
+                together = measure_cases(page, view, cases, args, frames, floors)
+                print(f"{'mission':20s} {'method':18s} {'one tab ms':>11s} {'two tabs ms':>12s} "
+                      f"{'×':>6s}")
+                for case in cases:
+                    print(f"{case[0]:20s} {case[1]:18s} {alone[case]:11.0f} "
+                          f"{together[case]:12.0f} {together[case] / alone[case]:6.2f}")
     finally:
         app.stop()
 

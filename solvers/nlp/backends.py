@@ -25,6 +25,9 @@ class Backend:
     kind: str
     source: str
     summary: str
+    # Stops mid-solve when cancelled or past the time limit (an iteration callback or
+    # bounded steps); a rescue (`continuation`) calls only those.
+    stoppable: bool = True
 
 
 BACKENDS: dict[str, Backend] = {b.key: b for b in (
@@ -39,7 +42,7 @@ BACKENDS: dict[str, Backend] = {b.key: b for b in (
             "An interior point method whose linear algebra is a Riccati recursion over the "
             "stages of an optimal control problem; solves a stage-ordered copy of the NLP "
             "(multiple shooting, Hermite–Simpson); warm-started from the previous optimum's "
-            "primal values only (CasADi passes it no multipliers)."),
+            "primal values only (CasADi passes it no multipliers).", stoppable=False),
     Backend("penalty-bfgs", "Exterior penalty + BFGS (paper 000, eq. 12)", "nlp", "paper 000",
             "An increasing quadratic penalty on the constraint violations, each subproblem by "
             "BFGS: slow and inexact, which is the lesson."),

@@ -200,3 +200,17 @@ def test_a_reentry_check_prints_no_overflow_warning(tmp_path):
     assert res.returncode == 0, res.stderr
     assert "RuntimeWarning" not in res.stderr and "overflow" not in res.stderr
     assert (tmp_path / "r.csv").read_text().count("\n") > 10  # written after the solve
+
+
+def test_a_rescue_stays_within_the_time_limit():
+    """A lunar request (bench_robustness.py seed 7, case 7: 368 N on 1459 kg) that multiple
+    shooting cannot solve: its rescue seeds only from back ends that stop at the time limit
+    (a FATROP seed, which checks no limit mid-solve, ran 19 s past a 15 s limit)."""
+    values = {"altitude0": 35285.9, "omega_source": 0.0, "omega0": 0.00127895,
+              "apolune_altitude": 145171.5, "mass0": 1459.10, "thrust": 368.368,
+              "exhaust_speed": 1170.0, "sigma0": 634.94, "psi_guess": -0.43688}
+    started = time.monotonic()
+    sol = solvers.get_mission("lunar-landing").solve(values, method="multiple-shooting",
+                                                      time_limit=15.0)
+    assert time.monotonic() - started < 15.0 + 4.0, sol.message
+    assert "fatrop" not in sol.message
