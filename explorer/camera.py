@@ -18,6 +18,10 @@ from .player import quaternion_from_axes
 FOV = math.radians(50.0)
 ELEVATION = 0.06  # how far above the trajectory's plane the camera looks from
 OBLIQUE = math.radians(20.0)  # camera azimuth from the plane normal towards the start
+# Of the canvas height, kept clear above the highest and below the lowest framed point: a
+# label stands above or below its point in screen space (the hovercraft's target-velocity
+# label ran off the top edge).
+LABEL_ROOM = 0.08
 
 
 @dataclass
@@ -117,7 +121,7 @@ def fit_camera(g: Geometry, aspect: float = 1.0, bottom: float = 0.0,
     # Perspective: a point at depth z (towards the camera) fits when |x| <= tan (D - z).
     z = rel @ view
     need_w = z + margin * np.abs(rel @ right) / (tan_v * aspect)
-    need_h = z + margin * np.abs(rel @ screen_up) / ((1.0 - bottom) * tan_v)
+    need_h = z + margin * np.abs(rel @ screen_up) / ((1.0 - bottom - LABEL_ROOM) * tan_v)
     distance = max(float(np.max(need_w)), float(np.max(need_h)), 1e-2 * g.extent)
     reach = max([np.linalg.norm(s.center - g.center) + s.radius for s in g.spheres] + [g.extent])
     # Aim below the centre so that it shows in the middle of the uncovered part.

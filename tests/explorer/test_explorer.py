@@ -357,6 +357,31 @@ def test_lunar_scene_and_camera_frame_the_descent():
     assert cam.far > np.linalg.norm(cam.position) + moon.radius
 
 
+
+@pytest.mark.parametrize("bottom", [0.0, 0.39])
+def test_the_frame_keeps_room_for_labels_above_and_below(bottom):
+    """A label stands above or below its point in screen space (about 22 px high, a
+    gizmo's arrow about 40 px): the highest and lowest framed points stay 8 % of the
+    half-height from the uncovered part's edges (the hovercraft's target-velocity tip sat
+    at 0.94 of the half-height, under the plots panel's 39 %: its label cut off)."""
+    from explorer.camera import FOV
+    from solvers import get_mission
+
+    mission = get_mission("hovercraft")
+    sol = mission.solve(method="hermite-simpson", verify=False)
+    g = build_geometry(mission.present(sol), sol.t, sol.arcs)
+    g.markers.append(("tip", g.points.max(axis=0) + [0.0, 1.0, 0.0], (0, 0, 0), False,
+                      "bottom-left"))
+    cam = fit_camera(g, aspect=1.2, bottom=bottom)
+    forward = (cam.look_at - cam.position) / np.linalg.norm(cam.look_at - cam.position)
+    right = np.cross(forward, cam.up)
+    right /= np.linalg.norm(right)
+    up = np.cross(right, forward)
+    rel = np.concatenate([g.points, [m[1] for m in g.markers]]) - cam.position
+    ndc_y = (rel @ up) / ((rel @ forward) * np.tan(FOV / 2))
+    top, low = 1.0 - 0.08, -1.0 + 2 * bottom + 0.08  # the uncovered part, less the room
+    assert ndc_y.max() <= top + 1e-9 and ndc_y.min() >= low - 1e-9
+
 class _FakeCamera:
     """What `Cameras` reads and sets of a browser's camera."""
 
