@@ -278,6 +278,10 @@ def show_case(page, view, key: str, method: str):
 
 FLOOR_OBSERVER = """() => {
   window.__floor = [];
+  window.__floorLong = [];
+  new PerformanceObserver((list) => {
+    for (const e of list.getEntries()) window.__floorLong.push([e.startTime, e.duration]);
+  }).observe({type: 'longtask', buffered: true});
   """ + PAINTED + UPLOADS + r"""
   new MutationObserver(() => {
     const el = [...document.querySelectorAll('p')].find((p) => /^floor \d+$/.test(p.textContent));
@@ -286,9 +290,11 @@ FLOOR_OBSERVER = """() => {
 }"""
 
 
-def measure_floor(context, repeats: int, scene: bool = False) -> list[float]:
+def measure_floor(context, repeats: int, scene: bool = False
+                  ) -> list[tuple[float, float, float]]:
     """The floor: a bare `viser.ViserServer` with one slider whose `on_update` writes a
-    markdown line, in the same browser; key press -> new text (ms), as `measure` times ours.
+    markdown line, in the same browser; key press -> (new text, new picture, long tasks) in ms,
+    as `measure` times ours.
     With `scene`, the scene floor: the slider also moves a 1200-point path drawn over a lit
     sphere that fills most of the view (a body as the lunar landing's Moon is drawn, the
     same subdivisions): viser's page then renders what any 3D update costs (its render
@@ -344,8 +350,11 @@ def measure_floor(context, repeats: int, scene: bool = False) -> list[float]:
             shown, _, painted = page.evaluate(
                 f"() => window.__floor.find(([t, c]) => c === 'floor {value}')")
             picture = _picture(page, painted, time.monotonic() + 60.0) if scene else painted
-            times.append((shown - t0, picture - t0))
-            time.sleep(0.3)
+            time.sleep(0.5)
+            long_ms = page.evaluate(f"""() => window.__floorLong
+                .filter(([start, d]) => start >= {t0} && start <= {shown} + 500)
+                .reduce((s, [_, d]) => s + d, 0)""")
+            times.append((shown - t0, picture - t0, long_ms))
         page.close()
         return times
     finally:
@@ -419,12 +428,14 @@ def main(argv: list[str] | None = None) -> None:
             floor_runs = measure_floor(context, args.repeats)
             floor, floor_paint = (statistics.median(f[i] for f in floor_runs) for i in (0, 1))
             print(f"floor (bare viser page, slider -> markdown): {floor:.0f} ms, picture "
-                  f"{floor_paint:.0f} ms", flush=True)
+                  f"{floor_paint:.0f} ms, long tasks "
+                  f"{statistics.median(f[2] for f in floor_runs):.0f} ms", flush=True)
             scenes = measure_floor(context, args.repeats, scene=True)
             scene_floor, scene_picture = (statistics.median(f[i] for f in scenes)
                                           for i in (0, 1))
             print(f"scene floor (the same, moving a path over a lit sphere): "
-                  f"{scene_floor:.0f} ms, picture {scene_picture:.0f} ms", flush=True)
+                  f"{scene_floor:.0f} ms, picture {scene_picture:.0f} ms, long tasks "
+                  f"{statistics.median(f[2] for f in scenes):.0f} ms", flush=True)
             frames = Frames()
             page, view = open_tab(app, context)
             close_webgl_toast(page)

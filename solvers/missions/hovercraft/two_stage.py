@@ -67,9 +67,14 @@ def solve_two_stage(values: dict[str, float], method: Method, nodes: int, backen
         start = _as_vector(prev) if prev is not None and prev.U.shape[1] == 1 else prev
         stages.append(_stage(method, nodes, backend, True, p, start=start, ctx=ctx))
     else:
-        start = _as_angle(prev) if prev is not None and prev.U.shape[1] == 2 else prev
-        if mode == ANGLE_VIA_VECTOR and start is None:
-            first = _stage(method, nodes, backend, True, p, start=None, ctx=ctx)
+        shown_vector = prev is not None and prev.U.shape[1] == 2
+        start = _as_angle(prev) if shown_vector else prev
+        if mode == ANGLE_VIA_VECTOR and (start is None or shown_vector):
+            # Cold, or warm from a thrust-vector answer (the angle form could not follow it,
+            # e.g. a throttled arc along an active bound): the vector form first again, so
+            # that a re-solve on another mesh can fall back as the first solve did.
+            first = _stage(method, nodes, backend, True, p, start=prev if shown_vector else None,
+                           ctx=ctx)
             stages.append(first)
             start = _as_angle(first.warm) if first.status == "optimal" else None
         if mode == ANGLE_ONLY or start is not None:
