@@ -219,13 +219,8 @@ def precheck(values: dict[str, float]) -> None:
 
 def _precheck_energy(values: dict[str, float]) -> None:
     """Drag only removes energy: the final speed is at most what the height lost gives."""
-    mu = model.G * model.LENGTH_UNIT * model.R_EARTH ** 2  # g R², m³/s²
-
-    def energy(v: float, h: float) -> float:
-        return v ** 2 / 2 - mu / (model.R_EARTH + h)
-
-    reachable = float(np.sqrt(2 * (energy(values["v0"], values["h0"])
-                                   + mu / (model.R_EARTH + values["hf"]))))
+    e_0 = reach.energy_momentum(values["v0"], 0.0, values["h0"])[0]
+    reachable = float(np.sqrt(2 * (e_0 + reach.MU / (model.R_EARTH + values["hf"]))))
     if values["vf"] > reachable:
         raise Infeasible(
             f"vf = {values['vf']:g} m/s needs more energy than the capsule has: drag only "

@@ -27,6 +27,11 @@ SCALE_HEIGHT = LU / model.BETA  # m: ρ = ρ0 exp(-h / SCALE_HEIGHT)
 KAPPA = model.S_OVER_M * model.RHO0 / LU  # 1/m: (S/m) ρ at h = 0, SI
 
 
+def drag_factor(h: float | np.ndarray) -> float | np.ndarray:
+    """(S/m) ρ(h) in 1/m: the drag deceleration is drag_factor(h) v² C_D / 2."""
+    return KAPPA * np.exp(-h / SCALE_HEIGHT)
+
+
 def energy_momentum(v: float, gamma: float, h: float) -> tuple[float, float]:
     """E = v²/2 - μ/r (J/kg) and H = r v cos γ (m²/s)."""
     r = RE + h
@@ -47,7 +52,7 @@ def thin_air_change(values: dict[str, float], h: float) -> tuple[float, float]:
     """How much E and H can change above altitude h within T_max (J/kg, m²/s)."""
     cd = model.C1 - model.C2 * np.cos(values["u_max"])
     cl = model.C3 * np.sin(values["u_max"])
-    a = KAPPA * np.exp(-h / SCALE_HEIGHT) * values["v_max"] ** 2 * np.hypot(cd, cl) / 2
+    a = drag_factor(h) * values["v_max"] ** 2 * np.hypot(cd, cl) / 2
     return (float(values["v_max"] * a * values["T_max"]),
             float((RE + values["h_max"]) * a * values["T_max"]))
 
@@ -95,7 +100,7 @@ def dense_air_loss(values: dict[str, float], samples: int = 400) -> tuple[float,
     def q(h: np.ndarray) -> np.ndarray:
         h = np.minimum(h, values["h_max"])
         v_lo = np.maximum(np.sqrt(np.maximum(2 * (e_f + MU / (RE + h)), 0.0)), values["v_min"])
-        return KAPPA * np.exp(-h / SCALE_HEIGHT) * v_lo**3 * cd_min / 2
+        return drag_factor(h) * v_lo**3 * cd_min / 2
 
     step = values["T_min"] / samples
     s = step * np.arange(1, samples + 1)  # right ends of the steps
