@@ -10,6 +10,7 @@ import subprocess
 import sys
 import time
 
+import numpy as np
 import pytest
 from scipy.integrate import quad
 
@@ -89,15 +90,39 @@ def _lunar_range_angle(values: dict[str, float]) -> float:
 
 
 def test_lunar_thrust_too_weak_for_the_range_angle_bound():
+    """The bound with the radius at the box's top throughout (the test's own quadrature above,
+    a weaker special case of `braking_range_angle`) refuses below its critical thrust, so the
+    mission's bound must too; it never refuses a thrust Hermite–Simpson lands with (200 N
+    at the defaults: the optimum climbs to several hundred km first)."""
     defaults = LUNAR.defaults("hermite-simpson")
     # θ_min is proportional to 1/F: the thrust at which it equals θ_max = 3 rad.
     f_crit = defaults["thrust"] * _lunar_range_angle(defaults) / lunar_problem.THETA_MAX
-    assert 50.0 < f_crit < 200.0
+    assert 10.0 / 0.98 < f_crit < 200.0
     message = _refused(LUNAR, {"thrust": 0.98 * f_crit})
     assert message is not None and "too weak" in message and "θ ≤ 3 rad" in message
-    assert _refused(LUNAR, {"thrust": 1.02 * f_crit}) is None
+    sol = LUNAR.solve({"thrust": 200.0}, method="hermite-simpson")
+    assert sol.status in ("optimal", "inaccurate"), sol.message
+    assert float(np.max(sol.x[:, 0])) - R_MOON > 300e3  # above the old box: it was needed
     # F/m0 below lunar gravity is not a bound: the mass falls as the engine burns.
     assert _refused(LUNAR, {"thrust": 900.0}) is None
+
+
+def test_lunar_thrust_too_weak_to_stop_the_fall():
+    """A slow start (ω0 well below the circular rate) with F/m0 below lunar gravity: the
+    lander falls. The bound (`fall_surface_speed`) refuses just below the thrust where it
+    stops proving the fall, and just above it Hermite–Simpson lands: the proof is sharp and
+    never refuses a request a method solves."""
+    case = {"altitude0": 20e3, "omega0": 4.2e-4, "mass0": 5000.0, "exhaust_speed": 4000.0}
+    lo, hi = 1000.0, 20000.0  # N: refused at lo, accepted at hi
+    assert _refused(LUNAR, {**case, "thrust": lo}) and not _refused(LUNAR, {**case, "thrust": hi})
+    for _ in range(30):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if _refused(LUNAR, {**case, "thrust": mid}) else (lo, mid)
+    message = _refused(LUNAR, {**case, "thrust": 0.98 * hi})
+    assert message is not None and "stop the fall" in message and "|ψ| ≤ 90°" in message
+    sol = LUNAR.solve({**case, "thrust": 1.02 * hi}, method="hermite-simpson")
+    assert sol.status in ("optimal", "inaccurate"), sol.message
+    assert sol.check["altitude_m"] == pytest.approx(0.0, abs=1.0)
 
 
 def test_lunar_propellant_that_cannot_shed_the_orbital_energy():

@@ -22,7 +22,12 @@ PAPER = "Zhao & Gu 2008, Science & Technology Review 26(20) (paper 002)"
 P_R0, P_W0, P_M0, P_F, P_C = range(5)
 # The OCP's state bounds that `precheck` derives its necessary conditions from: altitude
 # (m), range angle θ (rad) and mass (kg).
-ALTITUDE_MAX, THETA_MAX, M_MIN = 300e3, 3.0, 1.0
+# The altitude bound is a box for the NLP, not part of the problem: it lies above the highest
+# apolune a request may start on (2000 km), since a weak engine's optimum may climb first (a
+# 368 N, 1459 kg lander from 35 km rises to 973 km; under a 300 km bound it was unsolvable).
+ALTITUDE_MAX, THETA_MAX, M_MIN = 2500e3, 3.0, 1.0
+FALL_STEPS = 4000  # time steps of the fall bound (`fall_surface_speed`)
+BRAKING_STEPS = 400  # time steps of the range-angle bound (`braking_range_angle`)
 
 PARAMS = (
     Param("altitude0", "initial altitude (perilune)", "m", 15e3, 1e3, 100e3, 500,
@@ -123,10 +128,10 @@ def precheck(p: np.ndarray) -> None:
     - fuel: gravity is conservative, so e = V²/2 - μ/r + μ/R (zero at rest on the surface,
       >= V²/2 above it) obeys ė >= -(F/m)|V| >= -(F/m)√(2e); hence √(2e) falls by at most
       ∫F/m dt = c ln(m0/m): landing needs c ln(m0/m_min) >= √(2 e0);
-    - thrust: the angular momentum h = r²ω obeys |ḣ| = r (F/m)|cos ψ| <= r_max F/m, and while
-      h > 0 the range angle grows at θ̇ = h/r² >= h/r_max². Until h can first reach zero
-      (the mass m* with r_max c ln(m0/m*) = h0) θ grows by at least
-      (h0 t* - r_max c (m0 - m* - m* ln(m0/m*)) / ṁ) / r_max², which must stay below θ_max.
+    - fall: a lander falling from its start must stop its fall before the surface
+      (`fall_surface_speed`);
+    - thrust: braking the angular momentum to zero takes a range angle
+      (`braking_range_angle`) that must stay below θ_max.
     """
     r0, w0, m0, thrust, c = (float(v) for v in p[:5])
     v0 = r0 * w0
@@ -138,19 +143,91 @@ def precheck(p: np.ndarray) -> None:
             f"least Δv = {dv_energy:.4g} m/s, but burning down to the mass bound m ≥ "
             f"{M_MIN:g} kg gives only c ln(m0/{M_MIN:g} kg) = {dv_budget:.4g} m/s: raise the "
             "exhaust speed or lower the orbital rate")
-    r_max = R_MOON + ALTITUDE_MAX
-    h0 = r0 ** 2 * w0
-    m_star = m0 * np.exp(-h0 / (r_max * c))
-    rate = thrust / c  # kg/s
-    t_star = (m0 - m_star) / rate
-    theta = (h0 * t_star - r_max * c * (m0 - m_star - m_star * np.log(m0 / m_star)) / rate) \
-        / r_max ** 2
+    falling = fall_surface_speed(p)
+    if falling > 0:
+        raise Infeasible(
+            f"the thrust is too weak to stop the fall: at F = {thrust:g} N (F/m0 = "
+            f"{thrust / m0:.3g} m/s²) and ω0 = {w0:.4g} rad/s the lander, even thrusting "
+            f"straight up from ignition, still falls at {falling:.3g} m/s or more when it "
+            "reaches the surface or its propellant runs out (the thrust never speeding up "
+            "the orbital motion, |ψ| ≤ 90°): "
+            "raise the thrust, lower the initial mass or raise the initial angular rate")
+    theta = braking_range_angle(p)
     if theta > THETA_MAX:
         raise Infeasible(
             f"the thrust is too weak: at F = {thrust:g} N (F/m0 = {thrust / m0:.3g} m/s²) "
             f"braking the orbital motion takes at least {theta:.3g} rad of range angle, "
-            f"beyond the bound θ ≤ {THETA_MAX:g} rad (with r ≤ R + {ALTITUDE_MAX / 1e3:g} km): "
-            "raise the thrust or lower the initial mass")
+            f"beyond the bound θ ≤ {THETA_MAX:g} rad: raise the thrust or lower the initial "
+            "mass")
+
+
+def braking_range_angle(p: np.ndarray) -> float:
+    """A lower bound on the range angle θ (rad) flown before the angular momentum can first
+    reach zero, which a landing needs (ω(tf) = 0); any thrust direction.
+
+    The thrust adds energy at most at (F/m)|V|, so S = √(2(E + μ/R)) (E = V²/2 - μ/r) grows
+    at most at F/m: S <= S0 + c ln(m0/m) and E <= Ē. With V >= h/r that bounds the radius:
+    h²/(2r²) - μ/r <= Ē gives r <= ρ, the larger root (or the box R + ALTITUDE_MAX when Ē >= 0;
+    h at its lower bound, which only widens ρ). The angular momentum falls at most at
+    |ḣ| = r (F/m)|cos ψ| <= ρ F/m, so h >= h_lo, and θ̇ = h/r² >= h_lo/ρ² until h_lo = 0.
+    Each of ρ, F/m grows and h_lo/ρ² falls with t, so each step uses its right end (its ρ from
+    h_lo bounded with the box's rate over the step): every sum is on the safe side."""
+    r0, w0, m0, thrust, c = (float(v) for v in p[:5])
+    r_box = R_MOON + ALTITUDE_MAX
+    h = r0 ** 2 * w0
+    s0 = float(np.sqrt((r0 * w0) ** 2 + 2 * MU_MOON * (1 / R_MOON - 1 / r0)))
+    steps = BRAKING_STEPS
+    dt = (m0 - M_MIN) * c / thrust / steps  # until the propellant is spent
+    theta = 0.0
+    for k in range(1, steps + 1):
+        mass = m0 - thrust * k * dt / c
+        accel = thrust / mass
+        energy = 0.5 * (s0 + c * np.log(m0 / mass)) ** 2 - MU_MOON / R_MOON
+        h_step = max(h - r_box * accel * dt, 0.0)  # the least h can be within the step
+        if energy < 0:
+            root = np.sqrt(max(MU_MOON ** 2 + 2 * energy * h_step ** 2, 0.0))
+            rho = min(r_box, (MU_MOON + root) / (-2 * energy))
+        else:
+            rho = r_box
+        h -= rho * accel * dt
+        if h <= 0:
+            return theta
+        theta += h / rho ** 2 * dt
+        if theta > THETA_MAX:
+            return theta
+    return float("inf")  # h cannot reach zero before the propellant is spent
+
+
+def fall_surface_speed(p: np.ndarray) -> float:
+    """A lower bound on the falling speed (m/s) at which the lander reaches the surface when
+    it cannot stop its fall, 0 when this bound cannot show it (a proof, for |ψ| ≤ 90°).
+
+    With |ψ| ≤ 90° the angular momentum h = r²ω never grows (ḣ = -r (F/m) cos ψ, eq. 1) and
+    must end at 0, so 0 <= h <= h0 throughout. The radial acceleration is then at most
+    U(t) = max over R <= r <= r0 of (h0²/r³ - μ/r²) + F/m(t), with m(t) = m0 - F t/c. From
+    v(0) = 0 the radial speed stays below V(t) = ∫U and the radius below r0 + ∫V while V < 0
+    (r <= r0 then). If r0 + ∫V reaches R while V is still negative, the lander meets the
+    surface falling at |V| or more and cannot land; if V stays negative until the propellant
+    is spent (m = M_MIN), it cannot either. U grows with t (the mass falls), so
+    right-endpoint sums bound V from above; each step adds the larger of its two ends' V."""
+    r0, w0, m0, thrust, c = (float(v) for v in p[:5])
+    h0 = r0 ** 2 * w0
+    radii = np.array([R_MOON, r0, np.clip(1.5 * h0 ** 2 / MU_MOON, R_MOON, r0)])
+    support = float(np.max(h0 ** 2 / radii ** 3 - MU_MOON / radii ** 2))  # centrifugal - gravity
+    burn = (m0 - M_MIN) * c / thrust  # the longest the engine can burn
+    dt = burn / FALL_STEPS
+    t = dt * np.arange(1, FALL_STEPS + 1)
+    speed = np.cumsum(support + thrust / (m0 - thrust * t / c)) * dt  # V at t, an upper bound
+    if speed[0] >= 0:
+        return 0.0
+    rising = np.flatnonzero(speed >= 0)
+    end = int(rising[0]) if len(rising) else FALL_STEPS  # steps while V < 0
+    upper = np.maximum(np.concatenate([[0.0], speed[:end - 1]]), speed[:end])
+    radius = r0 + np.cumsum(upper) * dt
+    below = np.flatnonzero(radius <= R_MOON)
+    if len(below) == 0:
+        return 0.0 if len(rising) else float(-speed[-1])
+    return float(-upper[below[0]])
 
 
 @cache
