@@ -13,7 +13,9 @@ solve's own time limit, and what found the answer is said in its message:
    parameters (`Param.guess`: they steer the solver, not the problem) stay at the start's.
 2. Seeding. A general method (Hermite–Simpson, LGL, multiple shooting: one OCP) starts from
    another general method of the mission that converges from its own guess, its nodes
-   re-interpolated; any method from its own other back ends that stop at the time limit
+   re-interpolated, then from a mission's own method answering the same problem (a paper's),
+   its dense samples re-interpolated (`samples_guess`: a paper's nodes may lie on another
+   independent variable); any method from its own other back ends that stop at the time limit
    (when the chosen back end does not converge even from there, the other's answer is
    shown, said so).
 3. A stand-in. A mission's own method (a paper's) that still fails may be unable to
@@ -42,7 +44,7 @@ from .context import SolveContext
 from .multistart import guess_values
 from .nlp.backends import BACKENDS
 from .problem import Method
-from .solution import Solution
+from .solution import Solution, WarmStart, samples_guess
 from .solvable import SolvableMission
 
 RESCUED = ("failed", "iteration-limit")  # the statuses a rescue is tried for
@@ -195,12 +197,17 @@ def _walk(request: Case, start: Solution, origin: str, ctx: SolveContext) -> Wal
 def _seeded(request: Case, ctx: SolveContext, tried: list[str]
             ) -> tuple[Solution, str] | None:
     """The method warm-started from another general method of the mission (same OCP: its
-    nodes re-interpolated), or from its own other back ends, that converges from its own
-    initial guess; None when none does (what was tried goes to `tried`). A back end that
-    does not converge even from another's answer leaves that answer, said so."""
+    nodes re-interpolated), from a mission's own method answering the same problem (its
+    samples), or from its own other back ends, that converges from its own initial guess;
+    None when none does (what was tried goes to `tried`). A back end that does not converge
+    even from another's answer leaves that answer, said so."""
     m = request.method
+    general = m.transcription is not None
     seeds = [(o, o.default_backend) for o in request.mission.methods
-             if m.transcription is not None and o.transcription is not None and o.key != m.key]
+             if general and o.transcription is not None and o.key != m.key]
+    # then a mission's own methods that answer the same problem (a paper's), by their samples
+    seeds += [(o, o.default_backend) for o in request.mission.methods
+              if general and o.transcription is None and not o.other_problem]
     # Only back ends that stop at the time limit: a FATROP seed of a lunar case ran 19 s
     # past a 15 s limit.
     seeds += [(m, b) for b in m.backends if b != request.backend and BACKENDS[b].stoppable]
@@ -208,13 +215,18 @@ def _seeded(request: Case, ctx: SolveContext, tried: list[str]
         if ctx.should_stop():
             return None
         label = other.label if other is not m else f"the {backend} back end"
+        try:  # the other method's own parameters at their defaults
+            values = request.mission.validate(request.values, other.key)[0]
+        except ValueError:
+            continue
         tried.append(f"a seed from {label}")
-        seed = request.mission.solve_validated(request.values, other, request.nodes
+        seed = request.mission.solve_validated(values, other, request.nodes
                                                if other is m else other.nodes[1], backend,
                                                None, ctx)
         if not seed.converged or seed.warm is None:
             continue
-        start = replace(seed, method=m.key, warm=seed.warm.primal_only("seed"))
+        start = replace(seed, method=m.key, warm=seed.warm.primal_only("seed")
+                        if other.transcription is not None else _samples(request, seed))
         sol = request.solve(request.values, start, ctx)
         if sol.converged:
             return sol, f"seeded by {label}, which converged from its own guess"
@@ -222,6 +234,13 @@ def _seeded(request: Case, ctx: SolveContext, tried: list[str]
             return seed, (f"the {request.backend} back end did not converge even from the "
                           f"answer of {label}, which is shown")
     return None
+
+
+def _samples(request: Case, seed: Solution) -> WarmStart:
+    """Another method's answer as a guess for the request's transcription: its samples,
+    with the controls the request's OCP adds (`OCP.controls_from_shown`)."""
+    complete = request.mission.ocp(request.method, request.values).controls_from_shown
+    return samples_guess(seed, seed.u if complete is None else complete(seed.u))
 
 
 def _restarted(request: Case, ctx: SolveContext, tried: list[str]

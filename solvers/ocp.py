@@ -137,6 +137,9 @@ class OCP:
     boundary_ub: np.ndarray = field(default_factory=_none)
     boundary_scale: np.ndarray | None = None
     nlp_options: Mapping[str, Any] = field(default_factory=dict)
+    # The controls from the ones a solution shows (rows of `Solution.u`), where the OCP adds
+    # some (an L1 slack): so that a paper's answer can seed it (`continuation`).
+    controls_from_shown: Callable[[np.ndarray], np.ndarray] | None = None
 
     @property
     def nx(self) -> int:

@@ -157,6 +157,18 @@ class WarmStart:
                          statics=self.statics, data=dict(self.data))
 
 
+def samples_guess(sol: Solution, controls: np.ndarray) -> WarmStart:
+    """Any method's answer as a plain guess for a transcription of the same problem: its
+    dense samples (`sol.t`, `sol.x`) on normalised time, with `controls` (the samples'
+    controls in the OCP's columns). A mission's own method (a paper's) keeps its nodes on
+    its own independent variable (lunar landing: ϖ), so its samples in time are what a
+    transcription can re-interpolate."""
+    t = np.asarray(sol.t, float)
+    duration = float(t[-1] - t[0])
+    return WarmStart("samples", len(t) - 1, (t - t[0]) / duration, np.asarray(sol.x, float),
+                     np.asarray(controls, float), duration, t0=float(t[0]))
+
+
 @dataclass
 class Solution:
     """Result of `Mission.solve`, identical in shape for every mission and method.

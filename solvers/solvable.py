@@ -49,6 +49,9 @@ class SolvableMission(Protocol):
                         warm: Solution | None, ctx: SolveContext) -> Solution:
         """One solve of a validated request, without its checks or any rescue."""
 
+    def ocp(self, method: Method, values: dict[str, float]) -> OCP:
+        """The optimal control problem the general methods solve."""
+
     def check_direct(self, problem: OCP, p: np.ndarray, res: OCPResult) -> dict[str, float]:
         """The re-propagated terminal miss of a general method's answer."""
 

@@ -211,14 +211,20 @@ class NLP:
             return self._solve_penalty(x0, p, lbx, ubx, lbg, ubg, ctx)
         res = self._solve_once(x0, p, lbx, ubx, lbg, ubg, lam_x0, lam_g0, on_iteration,
                                stop_reason)
-        if not res.success and res.return_status in STALLED and res.max_violation <= FEASIBLE:
+        first = res
+        for duals in (True, False):
+            if res.success or res.return_status not in STALLED or res.max_violation > FEASIBLE:
+                break
             # A solver verdict at a point that satisfies the constraints proves nothing:
-            # re-check the point by a warm re-solve from it (it is often optimal).
-            again = self._solve_once(res.x, p, lbx, ubx, lbg, ubg, res.lam_x, res.lam_g,
-                                     on_iteration, stop_reason)
+            # re-check the point by a warm re-solve from it (it is often optimal), with its
+            # multipliers, then without them (a stall's multipliers may be what stalls: a
+            # CW free-structure case stalled again with them and converged without, 0.8 s).
+            again = self._solve_once(res.x, p, lbx, ubx, lbg, ubg,
+                                     res.lam_x if duals else None,
+                                     res.lam_g if duals else None, on_iteration, stop_reason)
             again.iterations += res.iterations
             again.history = res.history + again.history
-            again.rechecked = res.return_status
+            again.rechecked = first.return_status
             res = again
         return res
 

@@ -167,3 +167,30 @@ def test_primer_vector_solution_confirms_the_burn_time(default_solutions):
         assert s.cost.value == pytest.approx(exact.burn_time, rel=1e-3), method
     # The paper's transcription converges to the exact optimum from above.
     assert 0 < sol.cost.value - exact.burn_time < 1e-4 * exact.burn_time
+
+
+def test_a_general_method_seeded_by_the_papers_answer_proves_its_stall_optimal():
+    """A fuzzed case (bench_robustness seed 7, CW case 5: 9.4 m/s², 3.8 h) on which
+    Hermite–Simpson, seeded by the paper's answer (`samples_guess`, the L1 slack added by
+    `OCP.controls_from_shown`), stops with Infeasible_Problem_Detected at a point that satisfies the
+    constraints. The re-check with that point's multipliers stalls again; without them it
+    converges. A free structure can only burn less than the paper's fixed three burns up to
+    the discretisation: within 2 % of it."""
+    from dataclasses import replace
+
+    from solvers.context import SolveContext
+    from solvers.solution import samples_guess
+
+    case = {"x0": -56032.11, "y0": -34223.48, "z0": -175.39, "vx0": -289.0037,
+            "vy0": -460.0196, "vz0": -361.2118, "total_time": 13765.64, "accel": 9.414746,
+            "altitude": 13981290.0, "burns": 3.0}
+    paper = MISSION.solve(case, method="paper", verify=False)
+    assert paper.converged, paper.message
+    values, method, nodes = MISSION.validate(case, "hermite-simpson")
+    seed = samples_guess(paper, MISSION.ocp(method, values).controls_from_shown(paper.u))
+    assert seed.U.shape[1] == 4 and np.allclose(seed.U[:, 3], np.linalg.norm(paper.u, axis=1))
+    sol = MISSION.solve_validated(values, method, nodes, method.default_backend,
+                                  replace(paper, method=method.key, warm=seed),
+                                  SolveContext(time_limit=60))
+    assert sol.converged, sol.message
+    assert sol.cost.value == pytest.approx(paper.cost.value, rel=0.02)

@@ -227,3 +227,25 @@ def test_the_papers_method_hands_an_optimum_it_cannot_represent_to_a_general_met
     psi = np.asarray(sol.u)[:, 0]
     rate = (values["thrust"] / m * np.cos(psi) + 2 * v * omega) / r
     assert rate.min() < 1e-3 * rate.max(), "the optimum stays inside the paper's domain"
+
+
+def test_a_failed_general_method_is_seeded_by_the_papers_answer(monkeypatch):
+    """The rescue's seed from a mission's own method (`continuation._seeded`): with the
+    paper's method the only other method, Hermite–Simpson starts from the paper's answer
+    re-interpolated in time (its nodes lie on ϖ) and converges to the optimum it finds
+    from its own guess."""
+    from solvers import continuation
+    from solvers.context import SolveContext
+
+    mission = solvers.get_mission("lunar-landing")
+    paper, hs = mission.method("paper"), mission.method("hermite-simpson")
+    monkeypatch.setattr(mission, "methods", (paper, hs))
+    values, _, nodes = mission.validate(None, "hermite-simpson")
+    request = continuation.Case(mission, values, hs, nodes, hs.default_backend)
+    tried: list[str] = []
+    found = continuation._seeded(request, SolveContext(time_limit=60), tried)
+    assert found is not None, tried
+    sol, how = found
+    assert sol.converged and paper.label in how
+    cold = mission.solve(values, method="hermite-simpson", verify=False)
+    assert sol.cost.value == pytest.approx(cold.cost.value, rel=1e-6)

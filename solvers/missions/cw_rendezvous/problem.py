@@ -154,6 +154,7 @@ def free_ocp() -> OCP:
         path=lambda x, u, p: ca.sumsqr(u[:3]) - u[3] ** 2,
         path_lb=np.array([-np.inf]), path_ub=np.array([0.0]),
         path_cones=lambda x, u, p: [(u[:3], u[3])],  # the same row as the cone |a| <= s
+        controls_from_shown=lambda a: np.column_stack([a, np.linalg.norm(a, axis=1)]),
     )
 
 
