@@ -15,6 +15,7 @@ import viser
 from solvers import list_missions
 from solvers.cluster import connect
 from solvers.mission import Mission
+from solvers.registry import is_user_mission, mission_file_of
 from solvers.service import SolveService
 
 from .reload import MissionFiles
@@ -51,7 +52,10 @@ class ExplorerApp:
         self.views: dict[int, View] = {}
         self._lock = threading.Condition()
         self.files = MissionFiles(mission_files, self._reloaded, self._file_error)
-        self.missions = list_missions()
+        # Missions registered in this process before (another app's files, a library user's)
+        # are offered only where the solves can find them: from their file in the workers.
+        self.missions = [m for m in list_missions() if runner is not None
+                         or not is_user_mission(m.key) or mission_file_of(m.key)]
         by_key = {m.key: m for m in self.missions}
         if mission is not None and mission not in by_key:
             raise ValueError(f"unknown mission '{mission}' (missions: {', '.join(by_key)})")
@@ -62,11 +66,11 @@ class ExplorerApp:
         self.service: SolveService | None = None
         self.cluster: ClusterRunner | None = None
         if runner is None and scheduler:
-            runner = self.cluster = ClusterRunner(connect(scheduler), self.files.files)
+            runner = self.cluster = ClusterRunner(connect(scheduler), self._worker_files())
         if runner is None:
             self.service = SolveService(workers, prebuild=prebuild,
                                         first_mission=self.mission.key,
-                                        mission_files=self.files.files)
+                                        mission_files=self._worker_files())
             runner = ServiceRunner(self.service)
         self.runner = runner
         self.shared = shared
@@ -150,6 +154,12 @@ class ExplorerApp:
             views.add(self.shared_view)
         return list(views)
 
+    def _worker_files(self) -> list[str]:
+        """The mission files the solve workers load: this app's and those every other user
+        mission on offer came from."""
+        listed = [f for m in self.missions if (f := mission_file_of(m.key))]
+        return list(dict.fromkeys(self.files.files + listed))
+
     def _reloaded(self, mission: Mission, path: str) -> None:
         """A mission file was saved and loads: workers and tabs take the new mission."""
         keys = [m.key for m in self.missions]
@@ -158,7 +168,7 @@ class ExplorerApp:
         else:
             self.missions.append(mission)
         if self.service is not None:
-            self.service.reload_mission_files(self.files.files)
+            self.service.reload_mission_files(self._worker_files())
         for view in self._all_views():
             view.file_loaded(path)
             view.mission_reloaded(mission, self.missions)

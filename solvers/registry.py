@@ -83,6 +83,12 @@ def unregister(key: str) -> None:
         _USER_FILES.pop(key, None)
 
 
+def is_user_mission(key: str) -> bool:
+    """Whether `key` is a registered user mission (not a built-in one)."""
+    with _LOCK:
+        return key in _USER
+
+
 def mission_file_of(key: str) -> str | None:
     """The file a user mission came from (None for a built-in one)."""
     with _LOCK:

@@ -452,3 +452,36 @@ def test_status_line_and_plots():
     assert len(fig.data) == 10  # a line and the node markers per series
     assert [grid(n) for n in (1, 3, 5, 8, 10)] == [(1, 1), (1, 3), (2, 3), (2, 4), (3, 4)]
     assert figure_aspect(5, 0.4) == 0.4 and figure_aspect(10, 0.4) == pytest.approx(0.6)
+
+
+def test_an_app_offers_the_user_missions_its_workers_can_solve():
+    """A mission another app of this process registered from a file (a test module's app,
+    a library user's) is solved by this app's workers too; one registered only in memory
+    (no file for a worker to load) is not offered. Before, the first showed "unknown
+    mission" in the page when a later app switched to it."""
+    from pathlib import Path
+
+    from explorer.app import ExplorerApp
+    from explorer.capture import free_port
+    from solvers.mission_file import load_mission_file
+    from solvers.registry import load_mission_files, register, unregister
+    from solvers.request import SolveRequest
+
+    examples = Path(__file__).resolve().parents[2] / "examples"
+    keep_out = examples / "keep_out_rendezvous.py"
+    assert load_mission_files([str(keep_out)]) == {}
+    memory_only = load_mission_file(examples / "double_integrator.py")
+    register(memory_only)
+    app = None
+    try:
+        app = ExplorerApp("127.0.0.1", free_port(), "keep-out-rendezvous", workers=1,
+                          prebuild=False)
+        keys = [m.key for m in app.missions]
+        assert "keep-out-rendezvous" in keys and memory_only.key not in keys
+        sol = app.service.submit(SolveRequest("keep-out-rendezvous"), verify=False).result(120)
+        assert sol.status in ("optimal", "inaccurate"), sol.message
+    finally:
+        if app is not None:
+            app.stop()
+        unregister("keep-out-rendezvous")
+        unregister(memory_only.key)
