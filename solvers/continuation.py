@@ -28,7 +28,8 @@ solve's own time limit, and what found the answer is said in its message:
 
 When all fail, the answer stays `failed` and says where continuation stalled and the last
 case it solved on the way: a case a student can move toward. A rescue cut short by the time
-limit ends `time-limit` (it was not exhausted: a longer limit may find the answer).
+limit, or with a stage that used up its share of it, ends `time-limit` (it was not
+exhausted: a longer limit may find the answer).
 `infeasible` is left to the missions' named bounds (`Mission.precheck`).
 """
 
@@ -103,11 +104,14 @@ def rescue(request: Case, warm: Solution | None, failed: Solution, ctx: SolveCon
             steps = f"{walk.steps} step{'s' if walk.steps != 1 else ''}"
             return _found(request, walk.solved, failed, f"reached by continuation from "
                           f"{walk.origin} in {steps}", continuation_steps=walk.steps)
+    cut = stage.should_stop()  # a stage that used up its share was not exhausted
     for finder, share in ((_seeded, 1 / 2), (_stand_in, 1 / 2), (_restarted, 1.0)):
-        found = None if ctx.should_stop() else finder(request, _share(ctx, share), tried)
+        stage = _share(ctx, share)
+        found = None if ctx.should_stop() else finder(request, stage, tried)
         if found is not None:
             return _found(request, found[0], failed, found[1])
-    return _stalled(request, failed, walk, tried, ctx)
+        cut = cut or stage.should_stop()
+    return _stalled(request, failed, walk, tried, ctx, cut)
 
 
 def _share(ctx: SolveContext, share: float) -> SolveContext:
@@ -288,8 +292,10 @@ def _stand_in(request: Case, ctx: SolveContext, tried: list[str]
 
 
 def _stalled(request: Case, failed: Solution, walk: Walk | None, tried: list[str],
-             ctx: SolveContext) -> Solution:
-    """`failed` with what the rescue tried, and the last case continuation solved."""
+             ctx: SolveContext, cut: bool) -> Solution:
+    """`failed` with what the rescue tried, and the last case continuation solved;
+    `time-limit` when the limit, or a stage's share of it (`cut`), ended a way not yet
+    exhausted (on a slower or busier machine the same request may end so)."""
     if ctx.cancel is not None and ctx.cancel.is_set():
         failed.status = "cancelled"  # a newer request took over: the rescue is moot
         return failed
@@ -301,10 +307,11 @@ def _stalled(request: Case, failed: Solution, walk: Walk | None, tried: list[str
                            "the way and no further" + _last_case(request, walk))
     if tried:
         failed.message += f"; {', '.join(tried)} did not converge either"
-    if ctx.should_stop():  # cut short, not exhausted: the answer is the time limit's
+    if ctx.should_stop() or cut:  # cut short, not exhausted: the answer is the time limit's
         failed.status = "time-limit"
-        failed.message += (f" (the rescue stopped at the time limit of {ctx.time_limit:g} s: "
-                           "a longer time limit may find it)")
+        how = "stopped at" if ctx.should_stop() else "ran out of its share of"
+        failed.message += (f" (the rescue {how} the time limit of {ctx.time_limit:g} s: a "
+                           "longer time limit may find it)")
     return failed
 
 

@@ -4,8 +4,9 @@ call and one presentation call.
 A mission package (`solvers/missions/<key>/`) subclasses `Mission` with its records; methods
 with a general `transcription` are solved here from the mission's `OCP` (`ocp`,
 `parameter_vector`, and the optional hooks `precheck`, `record`, `terminal_miss`,
-`interval_error_norm`, `indirect_reference`), and a paper's own methods by the
-mission's `_solve`. `present` turns a numeric `Solution` into what the explorer draws.
+`interval_error_norm`, `indirect_reference`), and a paper's own methods by the mission's
+`_solve`. `present` turns a numeric `Solution` into what
+the explorer draws.
 """
 
 from __future__ import annotations
@@ -49,10 +50,10 @@ class Mission:
 
     Class attributes: `key`, `title`, `summary`, `source` (paper), `params` (solve inputs),
     `view_params` (display options: changing one redraws without re-solving), `methods`,
-    `published`, `presets`, `equations`, `tolerances` (the accuracy target of each re-propagated
-    miss, SI, keyed like `Solution.check`), `consistency` (what its methods must agree on),
-    `vehicle` (mesh name). The help text is the package's `help.md`, with `{{name}}` filled from
-    `help_tables()`.
+    `published`, `presets`, `equations`, `tolerances` (the accuracy target of each
+    re-propagated miss, SI, keyed like `Solution.check`), `consistency` (what its methods must
+    agree on), `vehicle` (mesh name). The help text
+    is the package's `help.md`, with `{{name}}` filled from `help_tables()`.
     """
 
     key: str

@@ -277,9 +277,12 @@ def test_no_launch_energy_is_reported_unsolved_with_the_reason():
     """Paper eq. 13 read literally (departure at Earth's velocity): 120 mN cannot make the
     ~4 km/s plane change plus the phasing within 700 d. No bound proves it (the engine's
     Δv budget, 5.2 km/s, exceeds the plane change), so it is not called infeasible: the
-    solver found no feasible trajectory, and the message says why that is expected."""
-    sol = MISSION.solve({"c3_max": 0.0}, nodes=20, verify=False)
-    assert sol.status == "failed"
+    solver found no feasible trajectory, and the message says why that is expected. The
+    rescue (continuation, seeds, other guesses) is cut by a 30 s limit: `time-limit`, with the
+    same reason (with the default 120 s it ran 94 s on a quiet machine, a stage using up its
+    share of the limit: `time-limit` too)."""
+    sol = MISSION.solve({"c3_max": 0.0}, nodes=20, verify=False, time_limit=30.0)
+    assert sol.status == "time-limit", sol.message
     assert "no feasible trajectory" in sol.message and "plane change" in sol.message
 
 
