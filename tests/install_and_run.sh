@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Install everything the tests need (Debian chromium included) and run the test suite.
 # Usage: bash tests/install_and_run.sh [pytest args...]   (e.g. -m slow, or -m "slow or not slow")
+# The tests run on every core (pytest-xdist, one test file per worker: its fixtures are built
+# once); TEST_WORKERS=1 runs them in one process.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -20,7 +22,7 @@ python3 -m ruff check .
 
 echo "== pytest"
 set +e
-python3 -m pytest "$@"
+python3 -m pytest -n "${TEST_WORKERS:-auto}" --dist loadfile "$@"
 status=$?
 set -e
 # pytest exits 5 when it collected no tests: that is a failure of this script, not a pass.
