@@ -47,6 +47,7 @@ from .view_drawing import ViewDrawing, drawn_signature
 PROGRESS_INTERVAL = 0.1  # s between "solving… iteration k" updates
 DIM_AFTER = 0.25  # s: a solve slower than this dims the old trajectory while it runs
 DRAG_PATIENCE = 0.5  # s: a newer slider value lets a younger running solve finish and show
+BUILD_WAIT = 60.0  # s: a link that arrives while the view is built waits at most this long
 
 
 class View(ViewDrawing):
@@ -78,6 +79,8 @@ class View(ViewDrawing):
         self._shown: tuple[Solution, Presentation, bool] | None = None
         self._drawn: tuple = ()  # what the check could change of the drawing on screen
         self._marker_at = 0.0
+        # A link can arrive (from the page, on another thread) before this view is built.
+        self._built = threading.Event()
 
         style.install(gui)
         self.missions = {m.key: m for m in missions}
@@ -101,6 +104,7 @@ class View(ViewDrawing):
         self.on_config(self.session)
         self.session.auto = True
         self.session.submit()
+        self._built.set()
 
     def _build_tabs(self, gui: viser.GuiApi, missions: Sequence[Mission]) -> None:
         """The Setup, Play, Compare and Export tabs and their panels."""
@@ -141,7 +145,11 @@ class View(ViewDrawing):
             self.controls.rebuild()
 
     def restore_link(self, query: str) -> None:
-        """The page was opened with a case in its address: set that case."""
+        """The page was opened with a case in its address: set that case (once the view is
+        built: on a busy server the page's address came in while it was still being built,
+        and a malformed link's notice found no camera to name the tab by)."""
+        if not self._built.wait(BUILD_WAIT):
+            return
         try:
             mission, method, nodes, backend, values, view = parse_case(query, self.missions)
             self.session.restore(mission, method, nodes, values, view, backend)

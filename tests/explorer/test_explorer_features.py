@@ -463,3 +463,50 @@ def test_plot_titles_print_units_with_superscripts():
         v.get("title", {}).get("text", "") for k, v in layout.items() if k.startswith("yaxis")]
     assert any("mm/s²" in title for title in titles), titles
     assert not any("^" in title for title in titles), titles
+
+
+def test_a_link_that_arrives_while_the_view_is_built_waits_for_it(monkeypatch):
+    """The page's address reaches the server on another thread, possibly before the view is
+    built (seen on a busy server: a malformed link's notice found no camera, and the page
+    never said why its link was refused). Here the link arrives at once, from the link
+    box's constructor: the view takes it once built and says why it is refused."""
+    import viser
+
+    from explorer import view as view_module
+    from explorer.capture import free_port
+    from explorer.panels.status import StatusPanel
+    from solvers import get_mission, list_missions
+
+    errors: list[BaseException] = []
+    notices: list[str] = []
+
+    class EagerLink(view_module.CaseLink):
+        def __init__(self, gui, restore) -> None:
+            super().__init__(gui, restore)
+
+            def arrive() -> None:
+                try:
+                    restore("mission=lunar-landing&nodes=%C2%B2")
+                except BaseException as exc:  # noqa: BLE001 - the test reports it
+                    errors.append(exc)
+
+            threading.Thread(target=arrive, daemon=True).start()
+
+    def notice(self, clients, title, message) -> None:
+        notices.append(message)
+
+    monkeypatch.setattr(view_module, "CaseLink", EagerLink)
+    monkeypatch.setattr(StatusPanel, "notify_kept", notice)
+    mission = get_mission("lunar-landing")
+    server = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)
+    try:
+        view = view_module.View(server.gui, server.scene, server.atomic, list_missions(),
+                                mission, "hermite-simpson")
+        deadline = time.monotonic() + 60.0
+        while not (notices or errors) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert not errors, errors
+        assert notices and "is not a whole number" in notices[0]
+        assert view.session.nodes == mission.method("hermite-simpson").nodes[1]
+    finally:
+        server.stop()
