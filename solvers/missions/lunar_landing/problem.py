@@ -134,8 +134,7 @@ def precheck(p: np.ndarray) -> None:
       (`braking_range_angle`) that must stay below θ_max.
     """
     r0, w0, m0, thrust, c = (float(v) for v in p[:5])
-    v0 = r0 * w0
-    dv_energy = float(np.sqrt(v0 ** 2 + 2 * MU_MOON * (1 / R_MOON - 1 / r0)))
+    dv_energy = energy_speed(r0, w0)
     dv_budget = c * np.log(m0 / M_MIN)
     if dv_energy > dv_budget:
         raise Infeasible(
@@ -161,6 +160,12 @@ def precheck(p: np.ndarray) -> None:
             "mass")
 
 
+def energy_speed(r0: float, w0: float) -> float:
+    """√(2 e0) = √(V0² + 2μ(1/R - 1/r0)) (m/s): the start's energy above rest on the surface
+    as a speed, which the thrust changes by at most ∫F/m dt (`precheck`)."""
+    return float(np.sqrt((r0 * w0) ** 2 + 2 * MU_MOON * (1 / R_MOON - 1 / r0)))
+
+
 def braking_range_angle(p: np.ndarray) -> float:
     """A lower bound on the range angle θ (rad) flown before the angular momentum can first
     reach zero, which a landing needs (ω(tf) = 0); any thrust direction.
@@ -175,7 +180,7 @@ def braking_range_angle(p: np.ndarray) -> float:
     r0, w0, m0, thrust, c = (float(v) for v in p[:5])
     r_box = R_MOON + ALTITUDE_MAX
     h = r0 ** 2 * w0
-    s0 = float(np.sqrt((r0 * w0) ** 2 + 2 * MU_MOON * (1 / R_MOON - 1 / r0)))
+    s0 = energy_speed(r0, w0)
     steps = BRAKING_STEPS
     dt = (m0 - M_MIN) * c / thrust / steps  # until the propellant is spent
     theta = 0.0
