@@ -13,10 +13,12 @@ import time
 import numpy as np
 import pytest
 from scipy.integrate import quad
+from scipy.optimize import brentq, minimize_scalar
 
 import solvers
 from solvers.context import Infeasible
 from solvers.missions.apollo_reentry import model as apollo_model
+from solvers.missions.apollo_reentry import reach as apollo_reach
 from solvers.missions.elliptic_transfer.problem import MIN_PERIGEE_ALTITUDE, R_EARTH
 from solvers.missions.hovercraft import problem as hover_problem
 from solvers.missions.lunar_landing import problem as lunar_problem
@@ -197,6 +199,77 @@ def test_apollo_dense_air_bound_never_refuses_a_solved_trajectory(change):
     values = {**sol.values, "T_min": 0.999 * duration,
               "T_max": max(sol.values["T_max"], 1.01 * duration)}
     assert _refused(APOLLO, values) is None
+
+# A request drawn by `benchmarks/bench_robustness.py --mission apollo-reentry --seed 7` (case 0)
+# that all three methods failed on before the pull-up bound: from 125 km diving at 9.3°, with
+# |u| <= 19°, it must still fly 558 s and end at 46.5 km at 8.98 km/s.
+STEEP_DIVE = {"v0": 9230.33, "gamma0": -0.1621, "h0": 125263.1, "vf": 8978.28, "gammaf": 0.0144,
+              "hf": 46549.5, "u_max": 0.3331, "T_min": 558.31, "T_max": 776.55,
+              "v_min": 3870.17, "v_max": 17949.37, "gamma_min": -0.2671, "gamma_max": 0.2309,
+              "h_max": 381067.4}
+
+
+@pytest.mark.parametrize("method", ["multiple-shooting", "hermite-simpson", "lgl"])
+def test_apollo_steep_dive_is_refused_by_the_pull_up_bound(method):
+    sol = APOLLO.solve(STEEP_DIVE, method=method)
+    assert sol.status == "infeasible"
+    assert "dives too steeply at its start" in sol.message and "u_max" in sol.message
+
+
+def _pull_up_lowest(values: dict[str, float]) -> float:
+    """The pull-up bound's lowest altitude at the start, computed here with scipy's scalar
+    optimisers (the derivation is in `reach.pull_up_floor`): the air's radial impulse
+    I = m (E0 - Ef) / v_lo, the largest upward pull c of gravity and the path's turning, and
+    the vertex of h0 + (ṙ0 + I) t + c t²/2 within T_min."""
+    mu = apollo_model.G * apollo_model.LENGTH_UNIT * apollo_model.R_EARTH**2
+    re = apollo_model.R_EARTH
+
+    def energy(v: float, h: float) -> float:
+        return v * v / 2 - mu / (re + h)
+
+    e0, ef = energy(values["v0"], values["h0"]), energy(values["vf"], values["hf"])
+    c1, c2, c3 = apollo_model.C1, apollo_model.C2, apollo_model.C3
+    k = -minimize_scalar(lambda u: -c3 * math.sin(u) / (c1 - c2 * math.cos(u)),
+                         bounds=(0.0, values["u_max"]), method="bounded").fun
+    m = -minimize_scalar(lambda g: -(k * math.cos(g) + abs(math.sin(g))),
+                         bounds=(values["gamma_min"], values["gamma_max"]),
+                         method="bounded").fun
+    v_lo = max(values["v_min"], math.sqrt(2 * (ef + mu / (re + values["h_max"]))))
+    impulse = m * (e0 - ef) / v_lo
+
+    def pull(r: float) -> float:
+        return (min(values["v_max"] ** 2, 2 * (e0 + mu / r)) - mu / r) / r
+
+    c = -minimize_scalar(lambda r: -pull(r), bounds=(re, re + values["h_max"]),
+                         method="bounded").fun
+    rate = values["v0"] * math.sin(values["gamma0"]) + impulse
+    t = min(values["T_min"], max(0.0, -rate / c))
+    return values["h0"] + rate * t + c * t * t / 2
+
+
+def test_apollo_pull_up_bound_is_sharp_in_the_entry_angle():
+    """Just past the steepest start the bound allows, refused; just inside, not."""
+    base = {**STEEP_DIVE, "gamma_min": -0.4, "gamma0": -0.1}
+    steepest = brentq(lambda g: _pull_up_lowest({**base, "gamma0": g}), -0.4, -0.05)
+    past = _refused(APOLLO, {**base, "gamma0": 1.02 * steepest})
+    assert past is not None and "dives too steeply" in past
+    assert _refused(APOLLO, {**base, "gamma0": 0.98 * steepest}) is None
+
+
+@pytest.mark.parametrize("change", [{}, {"gamma0": -8.2 * DEG}, {"u_max": 60 * DEG},
+                                    {"gammaf": 2 * DEG}])
+def test_apollo_pull_up_bound_never_refuses_a_solved_trajectory(change):
+    """A necessary condition: a trajectory the solver found satisfies it even with every
+    bound the proof uses shrunk to that trajectory's own range (T_min to its duration, u_max
+    to its largest |u|, v_min, the flight-path angles and h_max to its extremes)."""
+    sol = APOLLO.solve({**APOLLO.defaults(), **change}, method="hermite-simpson", nodes=80)
+    assert sol.status in ("optimal", "inaccurate"), sol.message
+    speed, gamma, height = sol.x[:, 0], sol.x[:, 1], sol.x[:, 2]  # SI: m/s, rad, m
+    tight = {**sol.values, "T_min": 0.999 * float(sol.t[-1] - sol.t[0]),
+             "u_max": 1.001 * float(np.max(np.abs(sol.u))),
+             "v_min": 0.999 * float(np.min(speed)), "gamma_min": float(np.min(gamma)) - 1e-4,
+             "gamma_max": float(np.max(gamma)) + 1e-4, "h_max": 1.001 * float(np.max(height))}
+    assert apollo_reach.pull_up_floor(tight).lowest >= 0  # (v_min may leave its GUI range)
 
 # ---- elliptic transfer: the target's perigee above 100 km ----------------------------------
 def test_elliptic_perigee_just_inside_and_past():

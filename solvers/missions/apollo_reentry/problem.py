@@ -215,6 +215,7 @@ def precheck(values: dict[str, float]) -> None:
     _precheck_altitude(values)
     _precheck_thin_air(values)
     _precheck_dense_air(values)
+    _precheck_pull_up(values)
 
 
 def _precheck_energy(values: dict[str, float]) -> None:
@@ -268,6 +269,22 @@ def _precheck_dense_air(values: dict[str, float]) -> None:
             f"{values['v_max']:g} m/s and gamma in [{values['gamma_min']:g}, "
             f"{values['gamma_max']:g}] rad), but from v0 to vf it may lose only "
             f"{allowed:.4g} J/kg: lower T_min, or ask for a slower end")
+
+
+def _precheck_pull_up(values: dict[str, float]) -> None:
+    """A steep dive at the start (or climb at the end) the air cannot turn before the ground
+    (`reach.pull_up_floor`)."""
+    pull = reach.pull_up_floor(values)
+    if pull.lowest < 0:
+        how = ("dives too steeply at its start" if pull.end == "start" else
+               "climbs too steeply at its end (seen backwards in time, a dive)")
+        raise Infeasible(
+            f"the capsule {how} for the air to turn it above the ground (altitude ≥ 0): "
+            f"drag may take only E0 − Ef of its energy, so lift and drag change its vertical "
+            f"speed by at most {pull.air:.4g} m/s (|u| ≤ u_max = {values['u_max']:g} rad), "
+            f"so {pull.after:.4g} s from its {pull.end} it would be at least "
+            f"{-pull.lowest:.4g} m below the ground: a shallower gamma0 or gammaf, a larger "
+            f"u_max or a slower end")
 
 
 def substeps(nodes: int) -> int:

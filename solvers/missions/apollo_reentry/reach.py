@@ -17,6 +17,8 @@ of them, no such path exists.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from . import model
@@ -107,3 +109,55 @@ def dense_air_loss(values: dict[str, float], samples: int = 400) -> tuple[float,
     from_start = np.concatenate([[0.0], np.cumsum(q(values["h0"] + climb * s)) * step])
     to_end = np.concatenate([[0.0], np.cumsum(q(values["hf"] + fall * s)) * step])
     return e_0 - e_f, float(np.max(from_start + to_end[::-1]))
+
+
+def lift_to_drag(u_max: float, samples: int = 2001) -> float:
+    """k = max |C_L| / C_D over |u| <= u_max: the lift is at most k times the drag."""
+    u = np.linspace(0.0, u_max, samples)
+    return float(np.max(model.C3 * np.sin(u) / (model.C1 - model.C2 * np.cos(u))))
+
+
+class PullUp(NamedTuple):
+    """The lowest altitude (m) a capsule diving at `end` ("start", or "end" backwards in
+    time) can be kept above, `after` seconds from that end, when the air changes its
+    vertical speed by at most `air` (m/s)."""
+
+    lowest: float
+    air: float
+    after: float
+    end: str
+
+
+def pull_up_floor(values: dict[str, float], samples: int = 2000) -> PullUp:
+    """How high a steep dive at the start (or climb at the end) can be kept: a negative
+    altitude proves the request impossible, the capsule hits the ground.
+
+    The radius obeys r̈ = v² cos²γ / r - μ/r² + a_r, a_r = L cos γ - D sin γ (from eq. 8).
+    The lift is at most k D (`lift_to_drag`), so |a_r| <= m D with
+    m = max over the γ bounds of k cos γ + |sin γ|. Drag takes energy at D v and v >= v_lo
+    (v_min, and E >= Ef below h_max), so ∫ D dt <= (E0 - Ef) / v_lo: the air changes the
+    radial speed by at most I = m (E0 - Ef) / v_lo over the whole flight. Gravity and the
+    turning of the path give at most c = max over R <= r <= R + h_max of (v_hi² - μ/r) / r,
+    v_hi² = min(v_max², 2 (E0 + μ/r)) (bounded cell by cell from the safe side). So
+    r(t) <= r0 + (ṙ0 + I) t + c t²/2 for t <= T_min (and the same backwards from the end
+    with -ṙf): a bound below the ground is impossible."""
+    e_0 = energy_momentum(values["v0"], 0.0, values["h0"])[0]
+    e_f = energy_momentum(values["vf"], 0.0, values["hf"])[0]
+    gamma = np.linspace(values["gamma_min"], values["gamma_max"], samples)
+    k = lift_to_drag(values["u_max"])
+    m = float(np.max(k * np.cos(gamma) + np.abs(np.sin(gamma))))
+    v_lo = max(values["v_min"],
+               float(np.sqrt(max(0.0, 2 * (e_f + MU / (RE + values["h_max"]))))))
+    air = m * max(0.0, e_0 - e_f) / v_lo
+    r = RE + np.linspace(0.0, values["h_max"], samples)
+    lo, hi = r[:-1], r[1:]  # on each cell, the numerator's largest over its smallest radius
+    excess = np.minimum(values["v_max"] ** 2, 2 * (e_0 + MU / lo)) - MU / hi
+    turn = float(np.max(excess / np.where(excess > 0, lo, hi)))
+    t = np.linspace(0.0, values["T_min"], samples)
+    ends = []
+    for end, h, rate in (("start", values["h0"], values["v0"] * np.sin(values["gamma0"])),
+                         ("end", values["hf"], -values["vf"] * np.sin(values["gammaf"]))):
+        path = h + (rate + air) * t + turn * t * t / 2
+        i = int(np.argmin(path))
+        ends.append(PullUp(float(path[i]), air, float(t[i]), end))
+    return min(ends)
