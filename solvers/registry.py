@@ -68,13 +68,17 @@ def get_mission(key: str) -> Mission:
 
 
 def register(mission: Mission, source: str = "") -> None:
-    """Add (or replace) a user mission; a built-in key cannot be taken."""
+    """Add (or replace) a user mission; a built-in key cannot be taken. `source` is the
+    file it came from (a worker loads it from there); a mission replaced by one without a
+    file keeps none (the old file would give the workers the old mission)."""
     if mission.key in _builtin():
         raise ValueError(f"'{mission.key}' is a built-in mission: choose another key")
     with _LOCK:
         _USER[mission.key] = mission
         if source:
             _USER_FILES[mission.key] = source
+        else:
+            _USER_FILES.pop(mission.key, None)
 
 
 def unregister(key: str) -> None:

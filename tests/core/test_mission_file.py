@@ -18,7 +18,13 @@ import numpy as np
 import pytest
 
 from solvers.mission_file import MissionFileError, load_mission_file
-from solvers.registry import get_mission, load_mission_files, unregister
+from solvers.registry import (
+    get_mission,
+    load_mission_files,
+    mission_file_of,
+    register,
+    unregister,
+)
 from solvers.service.worker import _load_quietly
 from solvers.userproblem import (
     Control,
@@ -524,6 +530,20 @@ def test_folders_and_clashes_in_the_registry(tmp_path):
         assert get_mission("tiny").title == "Tiny minimum-time hop"
         assert list(errors) == [str(tmp_path / "b.py")]
         assert "built-in mission" in errors[str(tmp_path / "b.py")]
+    finally:
+        unregister("tiny")
+
+
+def test_a_mission_replaced_in_memory_loses_its_file(tmp_path):
+    """A worker loads a user mission from its file: a mission registered again without one
+    (built in memory) must not keep the old file, whose mission is another (an app offered
+    it as solvable, and its workers solved the file's version)."""
+    path = _file(tmp_path, GOOD, "a.py")
+    try:
+        assert load_mission_files([str(path)]) == {}
+        assert mission_file_of("tiny") == str(path)
+        register(load_mission_file(path))  # the same key, from memory
+        assert mission_file_of("tiny") is None
     finally:
         unregister("tiny")
 
