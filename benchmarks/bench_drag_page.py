@@ -12,7 +12,9 @@ the status line (`#explorer-status`): the new optima the page showed per second,
 first move until the page caught up (a page behind the hand shows the gesture's optima
 long after it stopped: the lag column), and the drag events the server heard. The floor:
 the same gesture on a bare `viser.ViserServer` whose transform control's `on_update` writes
-"floor N" (N counting its events): the new texts it showed per second.
+"floor N" (N counting its events): the new texts it showed per second; and the scene floor,
+the same page also moving a path over a lit sphere on every event (what a new 3D picture
+costs this browser, as in `bench_browser.py`).
 """
 
 from __future__ import annotations
@@ -25,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).parent))
+from bench_browser import add_scene_floor, floor_path  # noqa: E402
 from bench_drag import HANDLE  # noqa: E402
 
 ARM = 0.6  # where along the gizmo arrow (fraction of its length) the mouse grabs it
@@ -95,13 +98,17 @@ def shown_rate(page, first: float, last: float, settle_s: float = 3.0) -> tuple[
     return len(shown) / (span / 1e3), (shown[-1] - last) / 1e3
 
 
-def floor_rate(context, seconds: float, rate: float) -> float:
+def floor_rate(context, seconds: float, rate: float, scene: bool = False) -> float:
+    """New texts a second on a bare viser page whose dragged transform writes one; with
+    `scene`, each drag event also moves a path over a lit sphere (`bench_browser`'s scene
+    floor): what any new 3D picture costs this browser."""
     import viser
 
     from explorer.capture import close_webgl_toast, free_port, projector, settle, settled_pose
 
     server = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)
     try:
+        path = add_scene_floor(server) if scene else None
         server.initial_camera.position = (0.0, -3.0, 1.0)
         server.initial_camera.look_at = (0.0, 0.0, 0.0)
         gizmo = server.scene.add_transform_controls(
@@ -113,6 +120,8 @@ def floor_rate(context, seconds: float, rate: float) -> float:
         @gizmo.on_update
         def _(_event) -> None:
             events[0] += 1
+            if path is not None:
+                path.points = floor_path(50.0 + events[0] % 50)
             text.content = f"floor {events[0]}"
 
         page = context.new_page()
@@ -173,17 +182,20 @@ def main(argv: list[str] | None = None) -> None:
         floor = floor_rate(context, args.seconds, args.rate)
         print(f"floor (bare viser page, dragged transform -> text): {floor:.1f} texts/s at "
               f"{args.rate:g} moves/s", flush=True)
+        scene = floor_rate(context, args.seconds, args.rate, scene=True)
+        print(f"scene floor (the same, each event also moving a path over a lit sphere): "
+              f"{scene:.1f} texts/s", flush=True)
         app = ExplorerApp("127.0.0.1", free_port(), args.mission[0])
         app.service.wait_prebuilt()  # the room after start-up, not during its NLP builds
         try:
             page, view = open_tab(app, context, 300.0)
             close_webgl_toast(page)
             print(f"{'mission':16s} {'method':18s} {'heard/s':>8s} {'shown/s':>8s} "
-                  f"{'÷ floor':>8s} {'lag s':>6s}")
+                  f"{'÷ floor':>8s} {'÷ scene':>8s} {'lag s':>6s}")
             for key in args.mission:
                 shown, lag, heard = explorer_rate(page, view, key, args.seconds, args.rate)
                 print(f"{key:16s} {view.session.method:18s} {heard:8.1f} {shown:8.1f} "
-                      f"{shown / floor:8.2f} {lag:6.1f}", flush=True)
+                      f"{shown / floor:8.2f} {shown / scene:8.2f} {lag:6.1f}", flush=True)
         finally:
             app.stop()
 

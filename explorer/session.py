@@ -96,7 +96,7 @@ class Session:
     # ---- configuration ----------------------------------------------------------------
     def _configure(self, mission: Mission, method: str | None, nodes: int | None,
                    values: Mapping[str, float]) -> None:
-        m = mission.method(method)
+        m = mission.method(method if method is not None else mission.live_method)
         self.mission = mission
         self.method = m.key
         self.nodes = m.nodes[1] if nodes is None else int(nodes)
@@ -122,7 +122,7 @@ class Session:
             self.submit(cold=cold)
 
     def select_mission(self, mission: Mission) -> None:
-        """Switch mission: its first method, default nodes, values and view options."""
+        """Switch mission: its live method, default nodes, values and view options."""
         self.preset = None
         self.last_good = self.latest = None
         self._configure(mission, None, None, {})
@@ -165,7 +165,8 @@ class Session:
                 backend: str | None = None) -> None:
         """Set a whole case at once (a shared link); bad entries raise `ValueError` and
         change nothing."""
-        vals, m, n = mission.validate(values, method, nodes)
+        vals, m, n = mission.validate(
+            values, method if method is not None else mission.live_method, nodes)
         checked_view = mission.validate_view(view)
         if backend is not None and backend not in m.backends:
             raise ValueError(f"method '{m.key}' has no back end '{backend}'")

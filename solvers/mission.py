@@ -5,8 +5,7 @@ A mission package (`solvers/missions/<key>/`) subclasses `Mission` with its reco
 with a general `transcription` are solved here from the mission's `OCP` (`ocp`,
 `parameter_vector`, and the optional hooks `precheck`, `record`, `terminal_miss`,
 `interval_error_norm`, `indirect_reference`), and a paper's own methods by the mission's
-`_solve`. `present` turns a numeric `Solution` into what
-the explorer draws.
+`_solve`. `present` turns a numeric `Solution` into what the explorer draws.
 """
 
 from __future__ import annotations
@@ -52,8 +51,8 @@ class Mission:
     `view_params` (display options: changing one redraws without re-solving), `methods`,
     `published`, `presets`, `equations`, `tolerances` (the accuracy target of each
     re-propagated miss, SI, keyed like `Solution.check`), `consistency` (what its methods must
-    agree on), `vehicle` (mesh name). The help text
-    is the package's `help.md`, with `{{name}}` filled from `help_tables()`.
+    agree on), `vehicle` (mesh name), `live_method` (the method a live view opens with;
+    None: the first). The help text is the package's `help.md`, `{{name}}` from `help_tables()`.
     """
 
     key: str
@@ -63,6 +62,7 @@ class Mission:
     params: tuple[Param, ...] = ()
     view_params: tuple[Param, ...] = ()
     methods: tuple[Method, ...] = ()
+    live_method: str | None = None  # the fastest whose default is `optimal`, if not the first
     published: tuple[Published, ...] = ()
     presets: tuple[Preset, ...] = ()
     # (caption, LaTeX) pairs for the mission's About panel: the model in the paper's notation.

@@ -55,6 +55,9 @@ class ApolloReentry(Mission, records=problem):
                     summary=LGL.summary + " The sharp dip into the dense air needs about 40 "
                     "nodes for 0.01 % (a global polynomial's weak spot)."),
     )
+    # A slider move re-solves in 13 ms by Hermite–Simpson, 55 ms by multiple shooting (both
+    # `optimal` at their defaults, bench_missions 2026-12-07): the explorer opens with it.
+    live_method = "hermite-simpson"
     cost_label = "heat load J"
 
     def solve_direct(self, values: dict[str, float], method: Method, nodes: int, backend: str,
