@@ -127,8 +127,11 @@ def test_fuzz(key: str) -> None:
     run()
 
 
-def fuzz_many(key: str) -> list[dict[str, Solution]]:
-    """MANY random cases of mission `key` at default node counts, each checked."""
+def fuzz_many(key: str, problems: list[str]) -> list[dict[str, Solution]]:
+    """MANY random cases of mission `key` at default node counts, each checked; a case that
+    fails its checks is added to `problems` (with its values) and the run goes on, so that
+    one run of an hour reports every problem and the whole count. Each case is printed as it
+    ends (`pytest -s` shows the progress)."""
     mission = solvers.get_mission(key)
     cases: list[dict[str, Solution]] = []
 
@@ -137,8 +140,13 @@ def fuzz_many(key: str) -> list[dict[str, Solution]]:
     @given(values_of(mission, set()))
     def run(values: dict[str, float]) -> None:
         solutions = solve_case(mission, values, reduced=False)
-        check_case(solutions)
+        try:
+            check_case(solutions)
+        except AssertionError as exc:
+            problems.append(f"{key} {values}: {exc}")
         cases.append(solutions)
+        print(f"{key} case {len(cases)}: "
+              + ", ".join(f"{m} {s.status}" for m, s in solutions.items()), flush=True)
 
     run()
     return cases
@@ -148,9 +156,12 @@ def fuzz_many(key: str) -> list[dict[str, Solution]]:
 def test_fuzz_many() -> None:
     """At least MIN_CASES random cases over every mission: the checks of each case, and
     `failed` in at most FAILED_SHARE of the cases, each saying what the rescue tried."""
-    cases = [case for key in MISSIONS for case in fuzz_many(key)]
+    problems: list[str] = []
+    cases = [case for key in MISSIONS for case in fuzz_many(key, problems)]
     statuses = Counter(f"{s.mission} {s.method} {s.status}" for c in cases for s in c.values())
+    print("\n".join(f"{k}: {n}" for k, n in sorted(statuses.items())))
     failed = [s for c in cases for s in c.values() if s.status == "failed"]
+    assert not problems, "\n".join(problems)
     assert len(cases) >= MIN_CASES, len(cases)
     assert all("continuation" in s.message for s in failed), [s.message for s in failed]
     failed_cases = sum(any(s.status == "failed" for s in c.values()) for c in cases)
