@@ -25,8 +25,9 @@ class Backend:
     kind: str
     source: str
     summary: str
-    # Stops mid-solve when cancelled or past the time limit (an iteration callback or
-    # bounded steps); a rescue (`continuation`) calls only those.
+    # Stops soon after it is cancelled or past the time limit (an iteration callback between
+    # iterations that each take a bounded time, or bounded steps); a rescue (`continuation`)
+    # calls only those.
     stoppable: bool = True
 
 
@@ -36,7 +37,11 @@ BACKENDS: dict[str, Backend] = {b.key: b for b in (
             "optimum's primal and dual values."),
     Backend("sqp", "SQP (CasADi sqpmethod, BFGS Hessian)", "nlp", "CasADi sqpmethod + qrqp",
             "Sequential quadratic programming with a limited-memory BFGS Hessian: the kind of "
-            "solver paper 004 used; slower than IPOPT here."),
+            "solver paper 004 used; slower than IPOPT here.",
+            # It stops only between iterations, and one QP of a large NLP can run for
+            # minutes (a rescue's SQP seed of a 400-segment asteroid case ran 6 min past a
+            # 15 s limit): a rescue does not call it.
+            stoppable=False),
     Backend("fatrop", "FATROP (structure-exploiting interior point)", "nlp",
             "Vanroye, Sathya, De Schutter & Decré 2023, via CasADi",
             "An interior point method whose linear algebra is a Riccati recursion over the "

@@ -244,3 +244,15 @@ def test_a_rescue_stage_that_used_up_its_share_ends_time_limit(monkeypatch):
     sol = continuation.rescue(request, None, failed, SolveContext(time_limit=0.5))
     assert sol.status == "time-limit", sol.message
     assert "ran out of its share of the time limit of 0.5 s" in sol.message
+
+
+def test_a_rescue_seeds_from_no_back_end_that_stops_only_between_long_iterations():
+    """SQP stops only between iterations, and one QP of a large NLP ran 6 min past a 15 s
+    limit (a rescue's SQP seed of a fuzzed 400-segment asteroid case): no rescue calls it.
+    A hovercraft request of the slow fuzz (its LGL rescue tried an SQP seed before)."""
+    values = {"steering": 1.0, "vx0": 1.1926, "y0": 1.1926, "alpha_guess": -1.0401,
+              "yf": 1.5213, "vy0": 0.0, "x0": 1.1926, "vyf": 3.8565, "vxf": 1.1926,
+              "T_guess": 3.5520, "accel": 7.8734, "xf": 1.5213}
+    sol = solvers.get_mission("hovercraft").solve(values, method="lgl", time_limit=15.0)
+    assert sol.status in ("failed", "time-limit") and "continuation" in sol.message
+    assert "sqp" not in sol.message, sol.message
