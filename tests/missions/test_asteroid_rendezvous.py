@@ -335,3 +335,21 @@ def test_launch_map_png(tmp_path):
     pytest.importorskip("kaleido")
     assert main(["--out", str(tmp_path), "--workers", "2"]) == 0
     assert (tmp_path / "launch_c3.png").stat().st_size > 10_000
+
+
+def test_a_guess_kind_with_no_arc_in_the_window_is_not_called_infeasible():
+    """A request of the slow fuzz: a multi-revolution guess with flights of at most 228 d
+    has no arc at all (one revolution takes about a year), which says nothing of the
+    problem. Before, both methods called it `infeasible` ("the particle swarm found no
+    feasible impulsive transfer in the window": no bound, no proof); now the rescue tries
+    other guesses (here a three-impulse transfer converges)."""
+    mission = solvers.get_mission("asteroid-rendezvous")
+    values = {"pso_generations": 20, "launch_end": 992.68, "elements": 1, "pso_seed": 130,
+              "pso_particles": 40, "c3_max": 64.67e6, "launch_start": -656.01,
+              "max_flight_time": 227.89, "mass0": 4047.4, "isp": 2160.2, "thrust": 0.4725,
+              "guess_kind": KINDS.index("two-impulse multi-revolution")}
+    sol = mission.solve(values, method="impulsive", time_limit=30)
+    # The rescue may find a transfer from another guess kind; the first guess's failure is
+    # said either way, with what to change.
+    assert sol.status != "infeasible", sol.message
+    assert "choose another guess kind" in sol.message and "227.89 d" in sol.message

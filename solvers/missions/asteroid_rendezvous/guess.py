@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ...context import Infeasible, SolveContext
+from ...context import SolveContext
 from ...dynamics.ephemeris import (
     AU,
     DAY,
@@ -324,8 +324,9 @@ def impulsive_guess(values: Mapping[str, float], ctx: SolveContext | None = None
         try:
             return lowest_c3_transfer(MJD_2022 + values["seed_launch"],
                                       values["seed_flight_time"], window)
-        except ValueError as exc:
-            raise Infeasible(str(exc)) from None
+        except ValueError as exc:  # a guess that does not exist proves nothing of the problem
+            raise RuntimeError(f"{exc} at the chosen dates: choose other seed dates or "
+                               "another guess kind") from None
     key = _GuessKey(kind, window, int(values["pso_particles"]), int(values["pso_generations"]),
                     int(values["pso_seed"]))
     with _CACHE_LOCK:
@@ -335,8 +336,13 @@ def impulsive_guess(values: Mapping[str, float], ctx: SolveContext | None = None
     stop = None if ctx is None else (lambda gen, best: ctx.should_stop())
     try:
         transfer = pso_search(kind, window, key.particles, key.generations, key.seed, stop)
-    except ValueError as exc:
-        raise Infeasible(str(exc)) from None
+    except ValueError:  # no arc of this kind: the guess, not the problem, is impossible
+        hint = (" (one revolution takes about a year here)" if kind == MULTI else "")
+        raise RuntimeError(
+            f"no {KINDS[kind]} transfer fits the window: none of the particle swarm's "
+            f"candidates has an arc of that kind within the {window.max_tof_days:g} d allowed"
+            f"{hint}; choose another guess kind, a longer maximum flight time or a wider "
+            "launch window") from None
     if ctx is not None:
         ctx.checkpoint()
     with _CACHE_LOCK:
