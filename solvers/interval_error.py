@@ -18,6 +18,7 @@ import casadi as ca
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from . import state_box
 from .solution import Series, Solution
 from .solvable import SolvableMission
 from .verify import RTOL, CheckTimeLimit, bounded, remaining_budget, time_budget
@@ -27,13 +28,18 @@ if TYPE_CHECKING:
 
 # s: the most the maximum-principle reference may take of a check's budget (see `checked`).
 REFERENCE_S = 20.0
+# Points inside each interval (besides its end) where the state box is checked.
+BOX_SAMPLES = 7
 # Control of all intervals at once: times (K,) -> controls (K, nu).
 Controls = Callable[[np.ndarray], np.ndarray]
 
 
-def local_errors(f: ca.Function, p: np.ndarray, t_nodes: np.ndarray, X: np.ndarray,
-                 controls: Controls, atol: np.ndarray) -> np.ndarray:
-    """(K, nx) errors e_k of the K = len(t_nodes) - 1 intervals (the states' units)."""
+def local_paths(f: ca.Function, p: np.ndarray, t_nodes: np.ndarray, X: np.ndarray,
+                controls: Controls, atol: np.ndarray, samples: int = 0
+                ) -> tuple[np.ndarray, np.ndarray]:
+    """Every interval's path from its node state under the method's control: (t, Y) with
+    Y[j, k] the state of interval k at its fraction s_j of the way (s = (j+1)/(samples+1),
+    the last row the interval's end), t[j, k] its time."""
     K, nx = len(t_nodes) - 1, X.shape[1]
     t0, h = t_nodes[:-1], np.diff(t_nodes)
     fmap = f.map(K)
@@ -44,11 +50,32 @@ def local_errors(f: ca.Function, p: np.ndarray, t_nodes: np.ndarray, X: np.ndarr
         dx = np.asarray(fmap(y.reshape(K, nx).T, U.T, P)).T
         return (dx * h[:, None]).ravel()
 
+    s_eval = np.linspace(0.0, 1.0, samples + 2)[1:]
     sol = solve_ivp(bounded(rhs), (0.0, 1.0), X[:-1].ravel(), method="DOP853", rtol=RTOL,
-                    atol=np.tile(np.asarray(atol, float) * np.ones(nx), K), t_eval=[1.0])
+                    atol=np.tile(np.asarray(atol, float) * np.ones(nx), K), t_eval=s_eval)
     if not sol.success:
         raise RuntimeError(f"interval integration failed: {sol.message}")
-    return sol.y[:, -1].reshape(K, nx) - X[1:]
+    return t0 + np.outer(s_eval, h), sol.y.T.reshape(len(s_eval), K, nx)
+
+
+def local_errors(f: ca.Function, p: np.ndarray, t_nodes: np.ndarray, X: np.ndarray,
+                 controls: Controls, atol: np.ndarray) -> np.ndarray:
+    """(K, nx) errors e_k of the K = len(t_nodes) - 1 intervals (the states' units)."""
+    return local_paths(f, p, t_nodes, X, controls, atol)[1][-1] - X[1:]
+
+
+def box_check(sol: Solution, problem: OCP, p: np.ndarray, res: OCPResult,
+              atol: np.ndarray | float) -> tuple[np.ndarray, dict[str, float]]:
+    """The interval errors (K, nx) and the state-box check of the paths between nodes
+    (`state_box.check`, BOX_SAMPLES points inside each interval besides its end)."""
+    t, Y = local_paths(problem.functions().f, p, res.t_nodes, res.X, res.controls,
+                       np.asarray(atol, float), BOX_SAMPLES)
+    b = problem.bounds(p)
+    nx = res.X.shape[1]
+    units = problem.state_units or ("",) * nx
+    box = state_box.check(sol, t.ravel(), Y.reshape(-1, nx), b.x_lb, b.x_ub, problem.x_scale,
+                          problem.states, units)
+    return Y[-1] - res.X[1:], box
 
 
 def error_series(t_nodes: np.ndarray, norms: np.ndarray, name: str, unit: str) -> Series:
@@ -71,11 +98,12 @@ def checked(mission: SolvableMission, sol: Solution, problem: OCP, p: np.ndarray
             ) -> dict[str, float]:
     """The deferred check of a general method: the re-propagated miss
     (`Mission.check_direct`), the local error of every interval in the headline's unit
-    (`Mission.interval_error_norm`) and the indirect reference
+    (`Mission.interval_error_norm`), the state box between nodes (`box_check`) and the
+    indirect reference
     (`Mission.indirect_reference`)."""
     miss = mission.check_direct(problem, p, res)
-    errors = local_errors(problem.functions().f, p, res.t_nodes, res.X, res.controls,
-                          mission.check_atol(problem))
+    errors, box = box_check(sol, problem, p, res, mission.check_atol(problem))
+    miss.update(box)
     norm = mission.interval_error_norm(errors)
     if norm is not None:
         record(sol, error_series(sol.node_t, norm[0], "error", norm[1]))

@@ -212,6 +212,9 @@ class Solution:
     # Accuracy targets of the re-propagated miss (keys of `check`, SI): an "optimal" answer
     # that misses one becomes "inaccurate" when the check runs.
     targets: dict[str, float] = field(default_factory=dict)
+    # Why a check entry misses its target, in words (by key of `check`; set by the check
+    # that measured it where "k = value (target)" would not tell a user what happened).
+    reasons: dict[str, str] = field(default_factory=dict)
     # The cold starts of a multi-start solve (`solvers.multistart`): cost, converged (0/1)
     # and the guess values of each.
     starts: list[dict[str, float]] = field(default_factory=list)
@@ -293,7 +296,8 @@ class Solution:
             return
         self.status = "inaccurate"
         cost = missed.pop("cost_error_estimate", None)
-        why = []
+        why = [self.reasons[k] for k in list(missed) if k in self.reasons]
+        missed = {k: v for k, v in missed.items() if k not in self.reasons}
         if missed:
             worst = ", ".join(f"{k} = {v:.3g} (target {tol:g})" for k, (v, tol) in missed.items())
             why.append(f"re-propagating the control misses {worst}")

@@ -179,10 +179,11 @@ def _add_reference(sol: Solution, p: np.ndarray) -> None:
 
 def check(sol: Solution, p: np.ndarray, res: OCPResult, vector: bool) -> dict[str, float]:
     """Re-propagate the method's own control (in the form it was solved in) with DOP853 and
-    report the terminal miss; the local error of every interval (position, m)."""
-    fn = problem.stage_ocp(vector).functions()
-    _, X = repropagate(fn.f, p, p[P_X0], res.control, res.t_nodes, atol=1e-12)
-    errors = interval_error.local_errors(fn.f, p, res.t_nodes, res.X, res.controls, 1e-12)
+    report the terminal miss; the local error of every interval (position, m) and the
+    state box between nodes."""
+    ocp = problem.stage_ocp(vector)
+    _, X = repropagate(ocp.functions().f, p, p[P_X0], res.control, res.t_nodes, atol=1e-12)
+    errors, box = interval_error.box_check(sol, ocp, p, res, 1e-12)
     interval_error.record(sol, interval_error.error_series(
         res.t_nodes, np.hypot(errors[:, 0], errors[:, 1]), "error", "m"))
-    return problem.end_miss(p, X[-1])
+    return {**problem.end_miss(p, X[-1]), **box}
