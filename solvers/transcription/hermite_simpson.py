@@ -13,6 +13,8 @@ drawing use them.
 
 from __future__ import annotations
 
+from functools import cached_property
+
 import casadi as ca
 import numpy as np
 
@@ -52,24 +54,24 @@ def hermite_dense(
     t_nodes: np.ndarray, X: np.ndarray, F: np.ndarray, per_interval: int
 ) -> tuple[np.ndarray, np.ndarray]:
     """Cubic Hermite interpolation of node states X (rows) with their time derivatives F:
-    `per_interval` samples per interval plus the last node."""
+    `per_interval` samples per interval plus the last node (all intervals at once)."""
     s = np.linspace(0.0, 1.0, per_interval + 1)[:-1]
     h00, h10 = 2 * s**3 - 3 * s**2 + 1, s**3 - 2 * s**2 + s
     h01, h11 = -2 * s**3 + 3 * s**2, s**3 - s**2
-    h = np.diff(t_nodes)
-    ts, xs = [], []
-    for k in range(len(h)):
-        xs.append(np.outer(h00, X[k]) + np.outer(h10 * h[k], F[k]) + np.outer(h01, X[k + 1])
-                  + np.outer(h11 * h[k], F[k + 1]))
-        ts.append(t_nodes[k] + s * h[k])
-    return np.concatenate([*ts, t_nodes[-1:]]), np.vstack([*xs, X[-1:]])
+    h = np.diff(t_nodes)[:, None]  # (K, 1)
+    basis = lambda b: b[None, :, None]  # noqa: E731 - (1, samples, 1) against (K, 1, nx)
+    xs = (basis(h00) * X[:-1, None] + basis(h10) * (h * F[:-1])[:, None]
+          + basis(h01) * X[1:, None] + basis(h11) * (h * F[1:])[:, None])
+    ts = t_nodes[:-1, None] + s[None, :] * h
+    return np.concatenate([ts.ravel(), t_nodes[-1:]]), np.vstack([xs.reshape(-1, X.shape[1]),
+                                                                  X[-1:]])
 
 
 def linear_dense(t_nodes: np.ndarray, U: np.ndarray, per_interval: int) -> np.ndarray:
     """Node values (rows) linear between nodes, sampled like `hermite_dense`."""
-    s = np.linspace(0.0, 1.0, per_interval + 1)[:-1]
-    parts = [np.outer(1 - s, U[k]) + np.outer(s, U[k + 1]) for k in range(len(t_nodes) - 1)]
-    return np.vstack([*parts, U[-1:]])
+    s = np.linspace(0.0, 1.0, per_interval + 1)[:-1][None, :, None]
+    parts = (1 - s) * U[:-1, None] + s * U[1:, None]
+    return np.vstack([parts.reshape(-1, U.shape[1]), U[-1:]])
 
 
 class HermiteSimpson(DirectTranscription):
@@ -153,9 +155,13 @@ class HermiteSimpson(DirectTranscription):
         return CostatePoints(t, np.vstack([lam0, -mu, lamf]), np.vstack([X[0], Xm, X[-1]]),
                              np.vstack([U[0], Um, U[-1]]))
 
+    @cached_property
+    def _f_at_nodes(self) -> ca.Function:
+        """f mapped over the N + 1 nodes (built once: a map costs more than its call)."""
+        return self.fn.f.map(self.N + 1)
+
     def _node_slopes(self, X: np.ndarray, U: np.ndarray, p: np.ndarray) -> np.ndarray:
-        N = self.N
-        return np.asarray(self.fn.f.map(N + 1)(X.T, U.T, np.tile(p[:, None], (1, N + 1)))).T
+        return np.asarray(self._f_at_nodes(X.T, U.T, np.tile(p[:, None], (1, self.N + 1)))).T
 
     def dense(
         self, T: float, X: np.ndarray, U: np.ndarray, p: np.ndarray, per_interval: int,

@@ -78,6 +78,12 @@ def top_before_descent(values: dict[str, float]) -> float | None:
     return r_a - RE
 
 
+def end_energies(values: dict[str, float]) -> tuple[float, float]:
+    """The specific orbital energies (J/kg) of the requested start and end states."""
+    return (energy_momentum(values["v0"], 0.0, values["h0"])[0],
+            energy_momentum(values["vf"], 0.0, values["hf"])[0])
+
+
 def dense_air_loss(values: dict[str, float], samples: int = 400) -> tuple[float, float]:
     """(the energy the capsule may lose, E0 - Ef; a lower bound on what drag takes from it
     near its ends within T_min), both J/kg: a request whose bound exceeds the allowance is
@@ -92,8 +98,7 @@ def dense_air_loss(values: dict[str, float], samples: int = 400) -> tuple[float,
     h(T - s) <= hf + V sin(-γ_min) s before the end (and h <= h_max). Over disjoint arcs
     [0, a] and [T - b, T], a + b = T_min <= T, drag takes at least ∫₀ᵃ q(h0 + ...) dt +
     ∫₀ᵇ q(hf + ...) ds; the largest over a is the bound (right Riemann sums, q falling)."""
-    e_0 = energy_momentum(values["v0"], 0.0, values["h0"])[0]
-    e_f = energy_momentum(values["vf"], 0.0, values["hf"])[0]
+    e_0, e_f = end_energies(values)
     top_speed = min(values["v_max"], float(np.sqrt(2 * (e_0 + MU / RE))))
     climb = top_speed * np.sin(max(0.0, values["gamma_max"]))
     fall = top_speed * np.sin(max(0.0, -values["gamma_min"]))
@@ -141,8 +146,7 @@ def pull_up_floor(values: dict[str, float], samples: int = 2000) -> PullUp:
     v_hi² = min(v_max², 2 (E0 + μ/r)) (bounded cell by cell from the safe side). So
     r(t) <= r0 + (ṙ0 + I) t + c t²/2 for t <= T_min (and the same backwards from the end
     with -ṙf): a bound below the ground is impossible."""
-    e_0 = energy_momentum(values["v0"], 0.0, values["h0"])[0]
-    e_f = energy_momentum(values["vf"], 0.0, values["hf"])[0]
+    e_0, e_f = end_energies(values)
     gamma = np.linspace(values["gamma_min"], values["gamma_max"], samples)
     k = lift_to_drag(values["u_max"])
     m = float(np.max(k * np.cos(gamma) + np.abs(np.sin(gamma))))
