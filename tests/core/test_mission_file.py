@@ -496,7 +496,7 @@ def test_free_initial_state_final_constraints_and_a_position_function():
         assert sol.cost.value == pytest.approx(1.5, rel=1e-8)
         assert sol.node_x[0, 0] == pytest.approx(0.5, abs=1e-8)
         assert set(sol.check) == {"max_defect", "reach_miss_m", "stop_miss_m_s",
-                                  "cost_error_estimate"}
+                                  "cost_error_estimate", "state_box_excursion"}
         assert abs(sol.check["reach_miss_m"]) < 1e-8 and abs(sol.check["stop_miss_m_s"]) < 1e-8
     pres = mission.present(sol)
     np.testing.assert_allclose(pres.path[:, 1], 2 * sol.x[:, 0])

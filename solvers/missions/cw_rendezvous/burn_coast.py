@@ -85,6 +85,7 @@ class BurnCoast:
         # x' with u the unit thrust direction (acceleration a u), for `hs_defects`.
         self.f = ca.Function("arc_f", [x_sym, u_sym, p],
                              [model.rhs(x_sym, model.acceleration(p) * u_sym, p)])
+        self.f_nodes = self.f.map(K + 1)  # x' at a burn's K + 1 nodes (dense output)
         xs = ca.DM(model.x_scale)
         ts = model.t_scale
         z_parts, eq, ineq = [], [], []

@@ -213,7 +213,7 @@ def dense_arcs(bc: BurnCoast, durations: np.ndarray, burn_x: list[np.ndarray],
         t0, t1 = starts[i], starts[i + 1]
         if kind == "burn":
             Xr, U = burn_x[b], burn_u[b]
-            F = np.asarray(bc.f.map(bc.K + 1)(Xr.T, U.T, np.tile(p_arc[:, None], bc.K + 1))).T
+            F = np.asarray(bc.f_nodes(Xr.T, U.T, np.tile(p_arc[:, None], bc.K + 1))).T
             t_nodes = np.linspace(t0, t1, bc.K + 1)
             t, X = hermite_dense(t_nodes, _embed(Xr, idx), _embed(F, idx), per_interval)
             U3 = np.column_stack([U, np.zeros(len(U))]) if U.shape[1] == 2 else U
