@@ -136,7 +136,46 @@ def test_lunar_propellant_that_cannot_shed_the_orbital_energy():
     sol = LUNAR.solve({**case, "exhaust_speed": 0.98 * c_crit}, method="hermite-simpson")
     assert sol.status == "infeasible" and "propellant" in sol.message
     assert f"{dv:.4g} m/s" in sol.message
-    assert _refused(LUNAR, {**case, "exhaust_speed": 1.02 * c_crit}) is None
+    # Just above it the energy bound lets it pass (the descent bound refuses it: at this
+    # exhaust speed the 50 kg lander burns out within 17 s, 100 km up).
+    above = _refused(LUNAR, {**case, "exhaust_speed": 1.02 * c_crit}) or ""
+    assert "orbital energy" not in above and "descends at most" in above
+
+
+# A slow-fuzz request (2026-12-07) whose three methods failed or ran out of time: 17.6 kN on
+# 92 kg at c = 671 m/s burns out within 3.5 s, 94 km up.
+BURNS_OUT = {"altitude0": 93989.5548, "omega_source": 0.0, "omega0": 0.0006,
+             "mass0": 91.9773, "thrust": 17575.5708, "exhaust_speed": 670.6244}
+
+
+@pytest.mark.parametrize("method", ["paper", "hermite-simpson", "multiple-shooting"])
+def test_lunar_lander_that_burns_out_before_it_gets_down_is_refused(method):
+    sol = LUNAR.solve(BURNS_OUT, method=method)
+    assert sol.status == "infeasible", sol.message
+    assert "descends at most" in sol.message and "±2000 m/s" in sol.message
+    assert "within 3.47 s" in sol.message  # (m0 - 1 kg) c / F
+
+
+@pytest.mark.parametrize("case", [{}, {"thrust": 12000.0, "mass0": 400.0},
+                                  {"omega0": 3e-4, "thrust": 4000.0, "altitude0": 40e3}])
+def test_lunar_descent_bound_holds_along_solved_trajectories(case):
+    """Each inequality of `descent_reach` holds on a solved landing: the fall speed -ṙ is at
+    most g_R t + c ln(m0/m(t)) (falling) and s (T - t) + c ln(m(t)/m(T)) (braking, with the
+    trajectory's own T and final mass), and the bound allows the altitude it descended."""
+    sol = LUNAR.solve(case, method="hermite-simpson")
+    assert sol.converged, sol.message
+    values = sol.values
+    p = lunar_problem.parameter_vector(values)
+    assert lunar_problem.descent_reach(p) >= values["altitude0"]
+    t, (_, v, _, _, m) = sol.t, sol.x.T
+    c, m0, T = values["exhaust_speed"], values["mass0"], sol.t[-1]
+    h0 = p[0] ** 2 * p[1]
+    radii = np.linspace(R_MOON, R_MOON + lunar_problem.ALTITUDE_MAX, 20001)
+    support = np.max(h0**2 / radii**3 - MU_MOON / radii**2)
+    tol = 0.5  # m/s: the interpolated dense path
+    assert np.all(-v <= MU_MOON / R_MOON**2 * t + c * np.log(m0 / m) + tol)
+    assert np.all(-v <= support * (T - t) + c * np.log(m / m[-1]) + tol)
+    assert np.max(np.abs(v)) <= lunar_problem.RADIAL_SPEED_MAX + tol
 
 
 # ---- Apollo reentry: drag only dissipates; the climb and descent rates are bounded ---------

@@ -65,3 +65,20 @@ def test_every_default_stays_in_its_box() -> None:
         sol = solvers.get_mission(key).solve({}, method)
         assert sol.status == "optimal", (key, sol.message)
         assert 0.0 <= sol.check[state_box.KEY] <= 1.0, key
+
+
+def test_a_lunar_landing_that_grazes_the_surface_between_nodes_is_not_optimal() -> None:
+    """A fuzz request (issue 17) whose 5480 s optimum touches the surface near t = 3380 s:
+    multiple shooting on 30 intervals keeps r >= R at its nodes, but the path its control
+    flies dips about 1 km underground between two of them (and spends 19 g less for it); on
+    60 intervals the path stays above the surface within the tolerance (10 m)."""
+    values = {"altitude0": 51349.5, "omega_source": 0.0, "omega0": 7.92665e-4,
+              "apolune_altitude": 1009838.0, "mass0": 3018.1, "thrust": 1698.77,
+              "exhaust_speed": 4286.5}
+    mission = solvers.get_mission("lunar-landing")
+    coarse = mission.solve(values, "multiple-shooting", 30, time_limit=60)
+    assert coarse.status == "inaccurate" and coarse.check[state_box.KEY] > 10.0
+    assert "r reaches 1.737e+06 m" in coarse.reasons[state_box.KEY]
+    fine = mission.solve(values, "multiple-shooting", 60, time_limit=60)
+    assert fine.ok and fine.check[state_box.KEY] <= 1.0, fine.message
+    assert fine.cost.value > coarse.cost.value  # the tunnel was cheaper

@@ -221,7 +221,11 @@ def test_the_papers_method_hands_an_optimum_it_cannot_represent_to_a_general_met
               "apolune_altitude": 1009838.0, "mass0": 3018.1, "thrust": 1698.77,
               "exhaust_speed": 4286.5, "sigma0": 647.5, "psi_guess": 1.29}
     sol = MISSION.solve(values, method="paper", time_limit=30)
-    assert sol.ok and sol.method in ("hermite-simpson", "multiple-shooting"), sol.message
+    assert sol.converged and sol.method in ("hermite-simpson", "multiple-shooting"), \
+        sol.message
+    # On 30 intervals the optimum, which touches the surface near t = 3380 s, dips about
+    # 1 km below it between nodes: `inaccurate`, saying so (tests/core/test_state_box.py).
+    assert sol.ok or "leaves the state box (r reaches" in sol.message, sol.message
     assert "did not converge on this case, so the answer of" in sol.message
     r, v, _, omega, m = np.asarray(sol.x).T
     psi = np.asarray(sol.u)[:, 0]

@@ -26,6 +26,8 @@ P_R0, P_W0, P_M0, P_F, P_C = range(5)
 # apolune a request may start on (2000 km), since a weak engine's optimum may climb first (a
 # 368 N, 1459 kg lander from 35 km rises to 973 km; under a 300 km bound it was unsolvable).
 ALTITUDE_MAX, THETA_MAX, M_MIN = 2500e3, 3.0, 1.0
+RADIAL_SPEED_MAX = 2e3  # m/s, the box of the radial speed
+REACH_STEPS = 2000  # time steps of the descent bound (`descent_reach`)
 FALL_STEPS = 4000  # time steps of the fall bound (`fall_surface_speed`)
 BRAKING_STEPS = 400  # time steps of the range-angle bound (`braking_range_angle`)
 
@@ -151,6 +153,16 @@ def precheck(p: np.ndarray) -> None:
             "reaches the surface or its propellant runs out (the thrust never speeding up "
             "the orbital motion, |ψ| ≤ 90°): "
             "raise the thrust, lower the initial mass or raise the initial angular rate")
+    reach = descent_reach(p)
+    if reach < r0 - R_MOON:
+        burn = (m0 - M_MIN) * c / thrust
+        raise Infeasible(
+            f"the lander cannot get down before its propellant is spent: at F = {thrust:g} N "
+            f"the engine burns from m0 = {m0:g} kg to the mass bound m ≥ {M_MIN:g} kg within "
+            f"{burn:.3g} s, and starting and ending at rest radially, with the radial speed "
+            f"within ±{RADIAL_SPEED_MAX:g} m/s, it descends at most {reach / 1e3:.4g} km, "
+            f"below its altitude of {(r0 - R_MOON) / 1e3:.4g} km: lower the thrust, or raise "
+            "the initial mass or the exhaust speed")
     theta = braking_range_angle(p)
     if theta > THETA_MAX:
         raise Infeasible(
@@ -235,14 +247,43 @@ def fall_surface_speed(p: np.ndarray) -> float:
     return float(-upper[below[0]])
 
 
+def descent_reach(p: np.ndarray) -> float:
+    """An upper bound on how far (m) the lander can descend before its propellant is spent,
+    inf when this bound does not apply (a proof, for |ψ| ≤ 90°).
+
+    The thrust is always on, so the flight lasts at most T_b = (m0 - M_MIN) c / F (the mass
+    bound). The radial speed starts and ends at 0 and stays within ±V_R (the state box).
+    Falling, r̈ >= -μ/R² - F/m (eq. 1: the centrifugal term is >= 0), so the fall speed w is
+    at most g_R t + c ln(m0/m(t)); braking, r̈ <= s + F/m with s the largest of
+    h0²/r³ - μ/r² over the altitude box (h = r²ω never grows and ends at 0, as in
+    `fall_surface_speed`), so w(t) <= s (T - t) + c ln(m(t)/m(T)). The descent ∫w dt is at
+    most the integral of the least of the three; when s + F/m0 >= 0 it grows with T, so
+    T = T_b bounds it. Each cell takes the forward bound at its right end and the braking
+    bound (falling in t) at its left: the sum is on the safe side."""
+    r0, w0, m0, thrust, c = (float(v) for v in p[:5])
+    h0 = r0 ** 2 * w0
+    r_top = R_MOON + ALTITUDE_MAX
+    radii = np.array([R_MOON, r_top, np.clip(1.5 * h0 ** 2 / MU_MOON, R_MOON, r_top)])
+    support = float(np.max(h0 ** 2 / radii ** 3 - MU_MOON / radii ** 2))
+    if support + thrust / m0 < 0:
+        return np.inf
+    burn = (m0 - M_MIN) * c / thrust
+    t = np.linspace(0.0, burn, REACH_STEPS + 1)
+    mass = np.maximum(m0 - thrust * t / c, M_MIN)
+    falling = MU_MOON / R_MOON ** 2 * t + c * np.log(m0 / mass)
+    braking = support * (burn - t) + c * np.log(mass / M_MIN)
+    cell = np.minimum(np.minimum(falling[1:], braking[:-1]), RADIAL_SPEED_MAX)
+    return float(np.sum(np.maximum(cell, 0.0)) * burn / REACH_STEPS)
+
+
 @cache
 def ocp() -> OCP:
     """Minimum fuel = minimum time (constant thrust) with free final time."""
 
     def bounds(p):
         return Bounds(
-            x_lb=np.array([R_MOON, -2e3, -1.0, -0.01, M_MIN]),
-            x_ub=np.array([R_MOON + ALTITUDE_MAX, 2e3, THETA_MAX, 0.01, p[P_M0]]),
+            x_lb=np.array([R_MOON, -RADIAL_SPEED_MAX, -1.0, -0.01, M_MIN]),
+            x_ub=np.array([R_MOON + ALTITUDE_MAX, RADIAL_SPEED_MAX, THETA_MAX, 0.01, p[P_M0]]),
             u_lb=np.array([-np.pi / 2]),
             u_ub=np.array([np.pi / 2]),
             T_lb=1.0,
