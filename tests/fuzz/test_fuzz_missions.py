@@ -154,7 +154,7 @@ def fuzz_many(key: str, problems: list[str]) -> list[dict[str, Solution]]:
     """MANY random cases of mission `key` at default node counts, each checked; a case that
     fails its checks is added to `problems` (with its values) and the run goes on, so that
     one run of an hour reports every problem and the whole count. Each case is printed as it
-    ends (`pytest -s` shows the progress)."""
+    ends (`pytest -s` shows the progress), with the values and message of a failed method."""
     mission = solvers.get_mission(key)
     cases: list[dict[str, Solution]] = []
 
@@ -170,6 +170,9 @@ def fuzz_many(key: str, problems: list[str]) -> list[dict[str, Solution]]:
         cases.append(solutions)
         print(f"{key} case {len(cases)}: "
               + ", ".join(f"{m} {s.status}" for m, s in solutions.items()), flush=True)
+        for m, s in solutions.items():  # what to reproduce a failure with
+            if s.status == "failed":
+                print(f"  {m} failed on {values}: {s.message}", flush=True)
 
     run()
     return cases
