@@ -203,8 +203,9 @@ def _seeded(request: Case, ctx: SolveContext, tried: list[str]
     """The method warm-started from another general method of the mission (same OCP: its
     nodes re-interpolated), from a mission's own method answering the same problem (its
     samples), or from its own other back ends, that converges from its own initial guess;
-    None when none does (what was tried goes to `tried`). A back end that does not converge
-    even from another's answer leaves that answer, said so."""
+    None when none does (what was tried goes to `tried`). Another back end of the method
+    that does not converge from its own guess walks from the defaults (`_walked`). A back
+    end that does not converge even from another's answer leaves that answer, said so."""
     m = request.method
     general = m.transcription is not None
     seeds = [(o, o.default_backend) for o in request.mission.methods
@@ -227,17 +228,32 @@ def _seeded(request: Case, ctx: SolveContext, tried: list[str]
         seed = request.mission.solve_validated(values, other, request.nodes
                                                if other is m else other.nodes[1], backend,
                                                None, ctx)
+        how = "converged from its own guess"
+        if other is m and not seed.converged:  # that back end's own walk from the defaults
+            walked = _walked(replace(request, backend=backend), ctx)
+            if walked is not None:
+                seed, how = walked, "reached this case by continuation from the defaults"
         if not seed.converged or seed.warm is None:
             continue
         start = replace(seed, method=m.key, warm=seed.warm.primal_only("seed")
                         if other.transcription is not None else _samples(request, seed))
         sol = request.solve(request.values, start, ctx)
         if sol.converged:
-            return sol, f"seeded by {label}, which converged from its own guess"
+            return sol, f"seeded by {label}, which {how}"
         if other is m:
             return seed, (f"the {request.backend} back end did not converge even from the "
                           f"answer of {label}, which is shown")
     return None
+
+
+def _walked(request: Case, ctx: SolveContext) -> Solution | None:
+    """The request reached by continuation from the defaults (solved by the request's back
+    end), or None (a hovercraft case: SQP's walk stalls at 34 %, IPOPT's takes one step)."""
+    start = _defaults(request, ctx)
+    if start is None:
+        return None
+    walk = _walk(request, start, "the defaults", ctx)
+    return walk.solved if walk.t >= 1.0 else None
 
 
 def _samples(request: Case, seed: Solution) -> WarmStart:

@@ -256,3 +256,17 @@ def test_a_rescue_seeds_from_no_back_end_that_stops_only_between_long_iterations
     sol = solvers.get_mission("hovercraft").solve(values, method="lgl", time_limit=15.0)
     assert sol.status in ("failed", "time-limit") and "continuation" in sol.message
     assert "sqp" not in sol.message, sol.message
+
+
+def test_a_rescue_walks_with_another_back_end_when_its_own_walk_stalls():
+    """A hovercraft request of the slow fuzz (2026-12-07): multiple shooting with SQP walks
+    from the defaults 34 % of the way and fails from every seed; IPOPT walks there in one
+    step, and SQP converges from IPOPT's answer."""
+    values = {"yf": 23.6417, "vx0": 12.5137, "y0": 24.3910, "vxf": 0.0, "steering": 1.0,
+              "xf": 14.9005, "T_guess": 0.8937, "vy0": 0.0, "x0": 0.0, "accel": 8.9746,
+              "vyf": 0.0278, "alpha_guess": -3.14159}
+    sol = solvers.get_mission("hovercraft").solve(values, method="multiple-shooting",
+                                                  time_limit=15.0)
+    assert sol.converged and sol.backend == "sqp", sol.message
+    assert "seeded by the ipopt back end, which reached this case by continuation" \
+        in sol.message
