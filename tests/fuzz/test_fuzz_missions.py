@@ -2,8 +2,9 @@
 exception; never "optimal" with a re-propagated miss beyond the mission's targets; no method
 calls a case infeasible that another method of the same mission solves; no method says
 `failed` where another solves it (`solves`: converged, its path inside the state box between
-nodes, its misses within what refinement closes; a failed solve is rescued by continuation, another method's seed or another guess:
-`solvers.continuation`); every `infeasible` names the bound that proves it.
+nodes, its misses within what refinement closes; a failed solve is rescued by continuation,
+another method's seed or another guess: `solvers.continuation`); every `infeasible` names
+the bound that proves it.
 
 The default set draws FEW examples per mission, derandomised (the same cases every run), not
 shrunk, at reduced node counts with a per-solve time limit, so the file stays near a couple
