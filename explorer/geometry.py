@@ -12,9 +12,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import cache
 
 import numpy as np
-from plotly.colors import sample_colorscale
+from plotly.colors import convert_colors_to_same_type, get_colorscale
 
 from solvers import palette
 from solvers.presentation import Curve, Presentation
@@ -97,13 +98,24 @@ class Geometry:
     plan: bool = False  # the default camera looks straight at the path's plane
 
 
+@cache
+def _colorscale_stops() -> tuple[np.ndarray, np.ndarray]:
+    """`COLORSCALE`'s stops: positions (K,) and sRGB colours (K, 3) in [0, 1]."""
+    scale = get_colorscale(COLORSCALE)
+    colors, _ = convert_colors_to_same_type([c for _, c in scale], colortype="tuple")
+    return np.array([p for p, _ in scale], float), np.asarray(colors, float)
+
+
 def colormap(values: np.ndarray, lo: float, hi: float) -> np.ndarray:
-    """(N, 3) uint8 sRGB colours of `values` on `COLORSCALE` over [lo, hi]."""
+    """(N, 3) uint8 sRGB colours of `values` on `COLORSCALE` over [lo, hi]: linear in sRGB
+    between its stops, as plotly's `sample_colorscale` (whose validation of every call was
+    half of a reentry redraw's server time)."""
     a, b = COLORSCALE_RANGE
     span = hi - lo if hi > lo else 1.0
-    frac = a + (b - a) * np.clip((np.asarray(values, float) - lo) / span, 0.0, 1.0)
-    rgb = sample_colorscale(COLORSCALE, list(frac), colortype="tuple")
-    return np.round(255.0 * np.asarray(rgb, float)).astype(np.uint8).reshape(-1, 3)
+    frac = a + (b - a) * np.clip((np.asarray(values, float).ravel() - lo) / span, 0.0, 1.0)
+    pos, rgb = _colorscale_stops()
+    out = np.column_stack([np.interp(frac, pos, rgb[:, k]) for k in range(3)])
+    return np.round(255.0 * out).astype(np.uint8).reshape(-1, 3)
 
 
 def colorbar_css() -> str:

@@ -34,11 +34,14 @@ class SidePanel:
 
     def __init__(self, gui: viser.GuiApi, on_page: Callable[[], None]) -> None:
         self.panel = gui.add_panel()
+        self._choosing = False  # `page_of` is setting the page list
         with self.panel.add_tab("Plots", viser.Icon.CHART_LINE):
             self.page = gui.add_dropdown("plots", ("all",), visible=False,
                                          hint="This solution has more plots than fit: "
                                               "choose which to show.")
-            self.page.on_update(lambda _: on_page())
+            # Only a person's choice redraws: setting the options from `page_of`, inside a
+            # draw, would draw the previous answer again first (viser calls back at once).
+            self.page.on_update(lambda _: None if self._choosing else on_page())
             self.plot = gui.add_plotly(go.Figure(), aspect=PLOT_ASPECT)
         with self.panel.add_tab("Map", viser.Icon.MAP):
             self.map_note = gui.add_markdown("This mission has no map.")
@@ -72,8 +75,13 @@ class SidePanel:
             return pages[0] if pages else []
         names = tuple(_page_name(chunk) for chunk in pages)
         if tuple(self.page.options) != names:
-            self.page.options = names
-            self.page.value = names[0]
+            chosen = self.page.value
+            self._choosing = True
+            try:
+                self.page.options = names
+                self.page.value = chosen if chosen in names else names[0]
+            finally:
+                self._choosing = False
         self.page.visible = True
         return pages[names.index(self.page.value)] if self.page.value in names else pages[0]
 
