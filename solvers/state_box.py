@@ -35,7 +35,7 @@ def check(sol: Solution, t: np.ndarray, paths: np.ndarray, lb: np.ndarray, ub: n
     k, i = np.unravel_index(int(np.argmax(excess)), excess.shape)
     worst = float(max(excess[k, i], 0.0))
     sol.targets[KEY] = 1.0
-    sol.labels[KEY] = Label("state-box excursion between nodes (× tolerance)", "")
+    sol.labels[KEY] = Label("state box excursion between nodes (× tolerance)", "")
     if worst > 0.0:
         bound = lb[i] if below[k, i] >= above[k, i] else ub[i]
         unit = f" {units[i]}" if i < len(units) and units[i] else ""
