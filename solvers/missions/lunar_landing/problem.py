@@ -215,6 +215,13 @@ def braking_range_angle(p: np.ndarray) -> float:
     return float("inf")  # h cannot reach zero before the propellant is spent
 
 
+def radial_support(h0: float, r_hi: float) -> float:
+    """The largest centrifugal-minus-gravity acceleration h0²/r³ - μ/r² (m/s²) over
+    R <= r <= r_hi: at an end, or at its one stationary point r = 1.5 h0²/μ."""
+    radii = np.array([R_MOON, r_hi, np.clip(1.5 * h0 ** 2 / MU_MOON, R_MOON, r_hi)])
+    return float(np.max(h0 ** 2 / radii ** 3 - MU_MOON / radii ** 2))
+
+
 def fall_surface_speed(p: np.ndarray) -> float:
     """A lower bound on the falling speed (m/s) at which the lander reaches the surface when
     it cannot stop its fall, 0 when this bound cannot show it (a proof, for |ψ| ≤ 90°).
@@ -229,8 +236,7 @@ def fall_surface_speed(p: np.ndarray) -> float:
     right-endpoint sums bound V from above; each step adds the larger of its two ends' V."""
     r0, w0, m0, thrust, c = (float(v) for v in p[:5])
     h0 = r0 ** 2 * w0
-    radii = np.array([R_MOON, r0, np.clip(1.5 * h0 ** 2 / MU_MOON, R_MOON, r0)])
-    support = float(np.max(h0 ** 2 / radii ** 3 - MU_MOON / radii ** 2))  # centrifugal - gravity
+    support = radial_support(h0, r0)
     burn = (m0 - M_MIN) * c / thrust  # the longest the engine can burn
     dt = burn / FALL_STEPS
     t = dt * np.arange(1, FALL_STEPS + 1)
@@ -262,9 +268,7 @@ def descent_reach(p: np.ndarray) -> float:
     bound (falling in t) at its left: the sum is on the safe side."""
     r0, w0, m0, thrust, c = (float(v) for v in p[:5])
     h0 = r0 ** 2 * w0
-    r_top = R_MOON + ALTITUDE_MAX
-    radii = np.array([R_MOON, r_top, np.clip(1.5 * h0 ** 2 / MU_MOON, R_MOON, r_top)])
-    support = float(np.max(h0 ** 2 / radii ** 3 - MU_MOON / radii ** 2))
+    support = radial_support(h0, R_MOON + ALTITUDE_MAX)
     if support + thrust / m0 < 0:
         return np.inf
     burn = (m0 - M_MIN) * c / thrust
