@@ -3,6 +3,9 @@ quantities every method of this mission reports."""
 
 from __future__ import annotations
 
+from types import ModuleType
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ...context import Infeasible, SolveContext
@@ -10,7 +13,6 @@ from ...ocp import OCPResult
 from ...problem import Method, Param
 from ...solution import Quantity, Solution, WarmStart
 from ...verify import repropagate
-from .lossless import REACHED, LosslessResult, SOCPResult, solve_lossless
 from .model import (
     CONTROL_UNITS,
     CONTROLS,
@@ -24,6 +26,9 @@ from .model import (
 )
 from .problem import ocp, touchdown_miss
 from .switch_mesh import switch_times
+
+if TYPE_CHECKING:  # `lossless` imports cvxpy: loaded by the solves that use it (`_lossless`)
+    from .lossless import LosslessResult, SOCPResult
 
 OBJECTIVES = ("fuel", "landing-error")
 
@@ -71,8 +76,17 @@ def solve_method(values: dict[str, float], p: np.ndarray, nodes: int, warm: Solu
         if w.n_intervals == nodes:
             switches = switch_times(w.tau * w.T, np.linalg.norm(w.U, axis=1), p[P_RHO1],
                                     p[P_RHO2])
-    result = solve_lossless(p, nodes, objective, hint, ctx, switches_hint=switches)
+    result = _lossless().solve_lossless(p, nodes, objective, hint, ctx,
+                                        switches_hint=switches)
     return _solution(values, p, nodes, result)
+
+
+def _lossless() -> ModuleType:
+    """The SOCP module, imported on a convex solve's first use: it imports cvxpy, about a
+    third of every process's start-up (CLI, solve workers) when imported with the missions."""
+    from . import lossless
+
+    return lossless
 
 
 def _solution(values: dict[str, float], p: np.ndarray, nodes: int, result: LosslessResult
@@ -116,7 +130,7 @@ def _message(result: LosslessResult, gap: np.ndarray, U: np.ndarray, p: np.ndarr
     text = (f"lossless: ‖T‖ ≥ ρ1 {verdict}, slack gap {np.max(np.abs(gap)):.1e} N; "
             f"{result.solves} SOCP solves (golden section on tf, {result.relinearisations} "
             "re-expansions of e^-z)")
-    if result.landing_error > REACHED:
+    if result.landing_error > _lossless().REACHED:
         text += f"; target out of reach, touchdown {result.landing_error:.1f} m from it"
     return text
 
@@ -166,7 +180,7 @@ def certify_infeasible(p: np.ndarray, ctx: SolveContext, nodes: int = 30) -> str
     """Why no landing exists, from the lossless SOCP (its infeasibility is a certificate for
     the nonconvex problem); "" when it finds a landing (the failure was the solver's)."""
     try:
-        solve_lossless(p, nodes, "fuel", None, ctx)
+        _lossless().solve_lossless(p, nodes, "fuel", None, ctx)
     except Infeasible as exc:
         return str(exc)
     return ""
