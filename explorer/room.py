@@ -317,13 +317,13 @@ class Room:
             if item is None:
                 return
             case, event, args, members = item
-            if event in ("on_progress", "shot") and not self._queue.empty():
+            if event == "on_progress" and not self._queue.empty():
                 continue  # a newer event is waiting: the followers skip this one
             if members is None:
                 with self._lock:
                     members = [m for m in self.members.values() if not m.teacher]
-            if event == "shot":
-                if self.sharing:
+            if event == "shot":  # only the newest (an older one waiting was replaced)
+                if self.sharing and args[0] is self.shot:
                     self._show_shot(args[0], members)
                 continue
             for member in members:

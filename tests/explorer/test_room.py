@@ -307,6 +307,35 @@ def test_followers_take_the_teachers_camera_and_clock_only_while_shared(room):
     assert seen_a[-1] == second and not seen_b
 
 
+def test_a_shared_camera_reaches_the_followers_while_the_teachers_solve_is_relayed(room):
+    """A shot waiting behind a relayed event, with the teacher's next solve queued behind
+    it, was dropped (the relay skipped a shot whenever any event waited, not only a newer
+    shot): the followers kept the old camera."""
+    from explorer.room import Shot
+
+    mission, lead, room, student = room
+    a, heard = student(1)
+    until(lambda: heard.results, "the follower's first picture")
+    seen: list[Shot] = []
+    a.on_shot = seen.append
+    room.set_sharing(True)
+    gate, relay = threading.Event(), a.relay
+
+    def held(case, event, args):
+        gate.wait(10.0)
+        relay(case, event, args)
+
+    a.relay = held  # the relay thread now waits inside the next event
+    lead.set_value("x", 3.0)
+    shot = Shot((4.0, 5.0, 6.0), (1.0, 0.0, 0.0), (0.0, 0.0, 1.0), 7.5)
+    room.share(shot)
+    lead.set_value("x", 4.0)  # the teacher's next solve, queued behind the shot
+    lead.wait_idle(10)
+    gate.set()
+    until(lambda: seen and seen[-1] == shot, "the shared camera on the follower")
+    until(lambda: a.values["x"] == 4.0, "the teacher's case")
+
+
 def test_the_teachers_panel_offers_a_freeze_box_per_parameter_of_the_case(room):
     """The Room folder's challenge boxes come from the room's case (a real viser GUI, no
     browser): one per parameter of the case's method, rebuilt only when the case's mission
