@@ -20,13 +20,18 @@ from ..session import Session
 from .value_input import NumberField, Report
 
 NO_PRESET = "(choose a preset)"
+# The panel's own folders: a mission's group of the same name (a mission file may use any
+# name) gets " parameters" added, or the panel showed two "Problem" folders.
+OWN_FOLDERS = ("Problem", "Display")
 
 
 def group_params(params: Sequence[Param]) -> dict[str, list[Param]]:
-    """Params by `Param.group`, groups in order of first appearance."""
+    """Params by `Param.group` (renamed where it is one of `OWN_FOLDERS`), groups in order
+    of first appearance."""
     groups: dict[str, list[Param]] = {}
     for p in params:
-        groups.setdefault(p.group, []).append(p)
+        label = f"{p.group} parameters" if p.group in OWN_FOLDERS else p.group
+        groups.setdefault(label, []).append(p)
     return groups
 
 
@@ -56,14 +61,14 @@ class Controls:
         self.fields.clear()
         s = self.session
         with self.container if self.container is not None else contextlib.nullcontext():
-            with self._folder("Problem"):
+            with self._folder(OWN_FOLDERS[0]):
                 self._problem_controls(s)
             for group, params in group_params(s.mission.all_params(s.method)).items():
                 with self._folder(group):
                     for p in params:
                         self.inputs[p.key] = self._param_control(p, s.values[p.key])
             if s.mission.view_params:
-                with self._folder("Display"):
+                with self._folder(OWN_FOLDERS[1]):
                     for p in s.mission.view_params:
                         self.inputs[p.key] = self._param_control(p, s.view[p.key], view=True)
 

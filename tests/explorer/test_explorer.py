@@ -511,3 +511,20 @@ def test_an_app_offers_the_user_missions_its_workers_can_solve():
             app.stop()
         unregister("keep-out-rendezvous")
         unregister(memory_only.key)
+
+
+def test_no_setup_folder_shares_a_name_with_the_panels_own():
+    """The cart's parameters sat in a second folder called "Problem" under the panel's own
+    "Problem" folder; a mission file may name a group anything."""
+    from solvers.registry import list_missions
+
+    for mission in list_missions():
+        for method in mission.methods:
+            labels = list(ctl.group_params(mission.all_params(method.key)))
+            assert not set(labels) & set(ctl.OWN_FOLDERS), (mission.key, method.key, labels)
+    mine = [Param("a", "a", "m", 1.0, 0.0, 2.0, 0.1, group="Problem"),
+            Param("b", "b", "m", 1.0, 0.0, 2.0, 0.1, group="Display"),
+            Param("c", "c", "m", 1.0, 0.0, 2.0, 0.1, group="Problem")]
+    groups = ctl.group_params(mine)
+    assert list(groups) == ["Problem parameters", "Display parameters"]
+    assert [p.key for p in groups["Problem parameters"]] == ["a", "c"]

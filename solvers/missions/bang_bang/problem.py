@@ -21,8 +21,8 @@ SOURCE = "textbook minimum-time problem (Kirk 1970, ex. 5.3-1; Bryson & Ho 1975,
 P_D, P_A = range(2)
 
 PARAMS = (
-    Param("distance", "distance d", "m", 1.0, 0.1, 100.0, 0.1, group="Problem"),
-    Param("accel", "acceleration bound a", "m/s²", 1.0, 0.1, 10.0, 0.1, group="Problem"),
+    Param("distance", "distance d", "m", 1.0, 0.1, 100.0, 0.1, group="Cart"),
+    Param("accel", "acceleration bound a", "m/s²", 1.0, 0.1, 10.0, 0.1, group="Cart"),
 )
 
 # Dragged in the 3D view: the target along the rail (the phase plane's x axis).
