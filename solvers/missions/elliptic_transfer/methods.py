@@ -73,8 +73,9 @@ def solve_method(case: Case, values: dict[str, float], method: Method, nodes: in
         res = solve_law(case, law, nodes)
         sol = _solution(case, values, res, method=method.key, nodes=nodes, backend=backend,
                         status="optimal", message="closed form")
-        sol.stats.update(iterations=0, nlp_variables=res.plan.n_unknowns,
-                         nlp_constraints=res.plan.n_equations)
+        # No iteration count: a closed form has none ("0 iterations" on the status line
+        # read as a solver that did not run).
+        sol.stats.update(nlp_variables=res.plan.n_unknowns, nlp_constraints=res.plan.n_equations)
     sol.checker = lambda: check(sol, case, res)
     return sol
 
