@@ -221,7 +221,8 @@ class Mission:
         """An answer's stats, targets and labels; its cost error estimate attached and its
         check bounded by what is left of the time limit (run now when `verify`)."""
         sol.stats["wall_s"] = ctx.elapsed()
-        sol.stats.setdefault("iterations", ctx.iterations)
+        if ctx.iterations:  # a closed form has no iteration count (not "0 iterations")
+            sol.stats.setdefault("iterations", ctx.iterations)
         sol.targets = targets
         sol.labels = dict(self.labels)
         # A stand-in's answer (continuation._stand_in) is estimated by its own method.

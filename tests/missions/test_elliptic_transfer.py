@@ -395,3 +395,14 @@ def test_out_of_plane_transfer() -> None:
     np.testing.assert_allclose(sol.node_u[:, :2], base.node_u[:, :2], atol=1e-15)
     case = make_case(sol.values)
     assert sol.cost.value == pytest.approx(gramian_cost(case), rel=1e-6)
+
+
+def test_a_closed_form_reports_no_iteration_count() -> None:
+    """The status line read "stm-law, LGL degree N 64 · 0 iterations", as if no solver had
+    run; a closed form has no iteration count, an NLP keeps its own."""
+    from explorer.panels.status import solver_line
+
+    law = MISSION.solve({}, method="stm-law", verify=False)
+    assert "iterations" not in law.stats and "iterations" not in solver_line(law)
+    nlp = MISSION.solve({}, method="lgl-nlp", verify=False)
+    assert nlp.stats["iterations"] > 0 and "iterations" in solver_line(nlp)
