@@ -223,8 +223,7 @@ class Mission:
         sol.stats["wall_s"] = ctx.elapsed()
         if ctx.iterations:  # a closed form has no iteration count (not "0 iterations")
             sol.stats.setdefault("iterations", ctx.iterations)
-        sol.targets = targets
-        sol.labels = dict(self.labels)
+        sol.targets, sol.labels = targets, dict(self.labels)
         # A stand-in's answer (continuation._stand_in) is estimated by its own method.
         cost_error.attach(self, sol, m if sol.method == m.key else self.method(sol.method))
         ctx.bound_check(sol)
