@@ -32,9 +32,10 @@ _HIDDEN_BOX = """
 
 
 def run_once_html(js: str) -> str:
-    """HTML that runs `js` once each time it is rendered."""
+    """HTML that runs `js` once each time it is rendered (then marks its image
+    `data-ran`, which tests wait for)."""
     return (f'<img src="data:,{next(_nonce)}" style="display:none" '
-            f'onerror="{html.escape(js)}">')
+            f'onerror="{html.escape(js)};this.dataset.ran = 1;">')
 
 
 def hidden_box_html(label: str, body: str, before: str = "") -> str:

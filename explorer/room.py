@@ -165,19 +165,22 @@ class Room:
             if self._placeholder is not None:
                 self._placeholder.close()
                 self._placeholder = None
-            was_following = member.session.following
+            shown = self.case if member.session.following else None
             member.teacher = True
             member.session.set_challenge(None)
-            member.session.following = False
+            member.session.lead(shown)
             if self.board is not None:
                 self.board.drop(member_id)
             self._lead_by(member.session)
             good = member.session.latest
-            if good is None or not good.converged:
-                member.session.submit()  # nothing good on screen yet: the teacher solves
-            elif not was_following:  # the teacher's own case becomes the room's
+            solve = good is None or not good.converged  # nothing good yet: the teacher solves
+            if not solve and shown is None:  # the teacher's own case becomes the room's
                 self.case = Case.of(member.session, self._request, self._checked)
                 self._catch_up(None)
+        if shown is not None:  # its view draws the room's case (its relay may not have)
+            member.session.show_case(shown)
+        if solve:
+            member.session.submit()
         if old is not None:
             self.follow(old.id)
         self.changed()

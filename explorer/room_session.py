@@ -104,6 +104,25 @@ class RoomSession(Session):
                 self._relaying = False
             return True
 
+    def lead(self, case: Case | None) -> None:
+        """Stop following: this tab drives the room. A follower first takes `case` (the
+        room's): relayed events still on their way to it are no longer delivered."""
+        with self._room_lock:
+            self.following = False
+            if case is not None:
+                case.apply(self)
+
+    def show_case(self, case: Case) -> None:
+        """Hand `case`'s configuration and answer to this session's own listeners (a new
+        teacher's view draws what the room shows, whatever the relay had delivered)."""
+        with self._room_lock:
+            Session._emit(self, "on_config", self)
+            if case.latest is not None:
+                request = case.request or Request(0, case.mission, case.solve)
+                Session._emit(self, "on_result", request, case.latest)
+                if case.checked:
+                    Session._emit(self, "on_check", request, case.latest)
+
     def branch(self) -> None:
         """Explore on one's own from the case on screen (nothing is solved until a move)."""
         with self._room_lock:

@@ -38,6 +38,7 @@ class RoomView(View):
         self.panel: RoomPanel | None = None
         self._refresh_due = False
         self._refresh_lock = threading.Lock()
+        self._panel_lock = threading.Lock()  # one `_refresh` at a time
         self._claim = claim
         self._early_key: str | None = None  # a key sent before the tab joined the room
         self._joined = False
@@ -73,18 +74,21 @@ class RoomView(View):
         timer.start()
 
     def _refresh(self) -> None:
+        """One redraw at a time: a change heard while the Room folder is being built starts
+        another timer, which must not build a second folder."""
         with self._refresh_lock:
             self._refresh_due = False
-        if self._closed.is_set():
-            return
-        if self.member.teacher and self.panel is None:
-            self.panel = RoomPanel(self.gui, self.room)
-        elif not self.member.teacher and self.panel is not None:
-            self.panel.remove()
-            self.panel = None
-        self.bar.refresh()
-        if self.panel is not None:
-            self.panel.refresh()
+        with self._panel_lock:
+            if self._closed.is_set():
+                return
+            if self.member.teacher and self.panel is None:
+                self.panel = RoomPanel(self.gui, self.room)
+            elif not self.member.teacher and self.panel is not None:
+                self.panel.remove()
+                self.panel = None
+            self.bar.refresh()
+            if self.panel is not None:
+                self.panel.refresh()
 
     # ---- the teacher's camera and clock ----------------------------------------------
     def attach(self, client: viser.ClientHandle) -> None:

@@ -12,7 +12,9 @@ holds the document's own properties: `URL` there is `document.URL`, hence `windo
 from __future__ import annotations
 
 import html
+import json
 import math
+import secrets
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
@@ -45,15 +47,20 @@ FORGET_KEY = """
 class TeacherKey:
     """The hidden box the page fills with the `teacher` key of its address; `claim(key)`
     hears the first one (the box is emptied at once). The page runs its script again
-    whenever it re-renders: a tab claims once, so a teacher tab that another one replaced
-    does not take the room back."""
+    whenever the element is mounted again, but fills the box once per connection (a token
+    of this box kept in the page), so the key is never put back into the page after its
+    claim; a reconnected tab, a new box, hands it over again. A tab claims once, so a
+    teacher tab that another one replaced does not take the room back."""
 
     def __init__(self, gui: viser.GuiApi, claim: Callable[[str], None]) -> None:
         self.claimed = False
         self.box = gui.add_text(KEY_LABEL, "", order=-96)
         self.box.on_update(lambda _: self._sent(claim))
-        self.reader = gui.add_html(hidden_box_html(KEY_LABEL, "if (key) fill(key);",
-                                                   before=FORGET_KEY), order=-95)
+        token = json.dumps(secrets.token_hex(8))
+        fill_once = (f"if (key && window.__explorerKeyBox !== {token}) "
+                     f"{{ window.__explorerKeyBox = {token}; fill(key); }}")
+        self.reader = gui.add_html(hidden_box_html(KEY_LABEL, fill_once, before=FORGET_KEY),
+                                   order=-95)
 
     def _sent(self, claim: Callable[[str], None]) -> None:
         key = str(self.box.value)

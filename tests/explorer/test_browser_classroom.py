@@ -101,6 +101,30 @@ def test_the_secret_stays_with_the_teacher(room):
         assert SECRET not in page.content() and SECRET not in page.url
         assert app.room.members[view.member_id].state == "following"
         assert page.get_by_role("button", name="bring everyone back").count() == 0
+    _the_key_stays_out_of_a_remounted_reader(tpage, tview)
+
+
+def _the_key_stays_out_of_a_remounted_reader(tpage, tview) -> None:
+    """The key's script runs again whenever its element is mounted again (a re-render of
+    the panel): the key, already handed over on this connection, is not typed into the page
+    again (the CI run of 01565b3 read it in the teacher's page after the claim)."""
+    import re
+
+    tpage.evaluate("""(secret) => {
+      window.__sawSecret = false;
+      document.addEventListener('input', (event) => {
+        if (event.target.value === secret) window.__sawSecret = true;
+      }, true);
+    }""", SECRET)
+    reader = tview.key.reader
+    source = re.search(r'src="(data:,\d+)"', reader.content).group(1)
+    image = f'img[src="{source}"]'
+    reader.visible = False
+    tpage.locator(image).wait_for(state="detached", timeout=PATIENCE_MS)
+    reader.visible = True
+    tpage.locator(image + "[data-ran]").wait_for(state="attached", timeout=PATIENCE_MS)
+    assert not tpage.evaluate("window.__sawSecret")
+    assert SECRET not in tpage.content()
 
 
 def test_the_teacher_moves_and_every_student_shows_the_new_optimum(room):

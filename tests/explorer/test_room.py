@@ -163,6 +163,37 @@ def test_the_teacher_leaves_and_comes_back(room):
     assert [m.id for m in room.students()] == [1, 3]
 
 
+def test_a_tab_that_leads_before_its_catch_up_arrives_draws_the_rooms_case(room):
+    """The teacher's tab joins as a follower, is handed the room's case (configuration
+    relayed, answer still on its way) and claims the room: it draws the room's answer. The
+    CI run of 01565b3 had the relayed answer dropped once the tab led: the teacher's page
+    stayed on "the first solve is on its way" with an optimum in its session."""
+    mission, lead, room, student = room
+    _, heard_a = student(1)
+    until(lambda: heard_a.results, "the first picture")
+    t = RoomSession(mission, auto=False, runner=Counting())
+    heard = Heard()
+    t.listeners.append(heard)
+    gate, relay = threading.Event(), t.relay
+
+    def held(case, event, args):
+        if event == "on_result":
+            gate.wait(10.0)
+        return relay(case, event, args)
+
+    t.relay = held
+    try:
+        room.join(2, t)
+        until(lambda: heard.configs, "the room's case relayed to the new tab")
+        room.promote(2)
+        gate.set()
+        until(lambda: heard.results, "the teacher's first picture")
+        assert heard.results[-1] is room.case.latest and t.runner.started == 0
+    finally:
+        gate.set()
+        t.close()
+
+
 def test_the_teacher_puts_a_students_case_on_the_projector(room):
     mission, lead, room, student = room
     (a, heard_a), (_, heard_b) = student(1), student(2)
