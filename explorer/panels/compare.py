@@ -16,7 +16,7 @@ import viser
 from solvers.mission import Mission
 from solvers.solution import Solution
 
-from .status import fmt, number
+from .status import fmt, number, wall_time
 
 SCROLLBAR_PX = 12  # the control panel's scrollbar, drawn over its right edge
 
@@ -44,7 +44,7 @@ def comparison_rows(mission: Mission, solutions: Sequence[Solution]) -> list[lis
                            for s in solutions]])
     rows.append(["iterations", *[_num(s.stats.get("iterations", math.nan), 4)
                                  for s in solutions]])
-    rows.append(["solve time", *[f"{1e3 * s.stats['wall_s']:.0f} ms" if "wall_s" in s.stats
+    rows.append(["solve time", *[wall_time(s.stats["wall_s"]) if "wall_s" in s.stats
                                  else "–" for s in solutions]])
     checks: list[str] = []
     for s in solutions:

@@ -70,6 +70,14 @@ def headline(sol: Solution, checking: bool = False) -> str:
     return " · ".join(parts)
 
 
+def wall_time(seconds: float) -> str:
+    """A solve's wall time as a person reads it: "< 1 ms" for a closed form (not "0 ms",
+    as if nothing ran), milliseconds below 10 s, seconds above."""
+    if seconds < 1e-3:
+        return "< 1 ms"
+    return f"{1e3 * seconds:.0f} ms" if seconds < 10.0 else f"{seconds:.1f} s"
+
+
 def solver_line(sol: Solution, nodes_label: str = "nodes") -> str:
     """Method, mesh (in the words of the method's node slider), iterations and wall time."""
     method = f"{sol.method}/{sol.backend}" if sol.backend else sol.method
@@ -77,7 +85,7 @@ def solver_line(sol: Solution, nodes_label: str = "nodes") -> str:
     if "iterations" in sol.stats:
         parts.append(f"{int(sol.stats['iterations'])} iterations")
     if "wall_s" in sol.stats:
-        parts.append(f"{1e3 * sol.stats['wall_s']:.0f} ms")
+        parts.append(wall_time(sol.stats["wall_s"]))
     return " · ".join(parts)
 
 
@@ -101,7 +109,7 @@ def details_markdown(sol: Solution) -> str:
              if q.label != sol.cost.label]
     for key, v in sol.stats.items():
         if key == "wall_s":
-            rows.append(f"| solve time | {1e3 * v:.0f} ms |")
+            rows.append(f"| solve time | {wall_time(v)} |")
         else:
             label = sol.label(key)
             rows.append(f"| {label.text} | {fmt(v, label.unit, 6)} |")

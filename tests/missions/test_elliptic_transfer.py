@@ -406,3 +406,12 @@ def test_a_closed_form_reports_no_iteration_count() -> None:
     assert "iterations" not in law.stats and "iterations" not in solver_line(law)
     nlp = MISSION.solve({}, method="lgl-nlp", verify=False)
     assert nlp.stats["iterations"] > 0 and "iterations" in solver_line(nlp)
+
+
+def test_a_sub_millisecond_solve_is_not_shown_as_0_ms() -> None:
+    """The same status line ended "· 0 ms" for the closed form: below a millisecond it
+    reads "< 1 ms"; longer solves in ms, and in s from 10 s on."""
+    from explorer.panels.status import wall_time
+
+    assert [wall_time(t) for t in (2e-5, 4.2e-3, 0.9994, 12.34)] == [
+        "< 1 ms", "4 ms", "999 ms", "12.3 s"]
