@@ -25,6 +25,9 @@ from .runners import ClusterRunner, Runner, ServiceRunner
 from .session import DEFAULT_TIME_LIMIT, Session
 from .view import View
 from .view_drawing import apply_theme
+from .viser_threads import make_pushes_thread_safe
+
+make_pushes_thread_safe()  # before any server: the views push from worker and relay threads
 
 START_LIMIT = 60.0  # s: the classroom's start-up solve
 

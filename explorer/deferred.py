@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import threading
 import time
+import traceback
 from collections.abc import Callable
 
 Action = Callable[[], None]
@@ -73,5 +74,7 @@ class Deferred:
                 action, self._action, self._running = self._action, None, True
             try:
                 action()
+            except Exception:  # noqa: BLE001 - the thread serves every later action too
+                traceback.print_exc()
             finally:
                 self._running = False

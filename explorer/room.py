@@ -325,15 +325,18 @@ class Room:
             if members is None:
                 with self._lock:
                     members = [m for m in self.members.values() if not m.teacher]
-            if event == "shot":  # only the newest (an older one waiting was replaced)
-                if self.sharing and args[0] is self.shot:
-                    self._show_shot(args[0], members)
-                continue
-            for member in members:
-                try:
-                    member.session.relay(case, event, args)
-                except Exception:  # noqa: BLE001 - the room's thread must survive a tab
-                    traceback.print_exc()
+            try:
+                if event == "shot":  # only the newest (an older one waiting was replaced)
+                    if self.sharing and args[0] is self.shot:
+                        self._show_shot(args[0], members)
+                    continue
+                for member in members:
+                    try:
+                        member.session.relay(case, event, args)
+                    except Exception:  # noqa: BLE001 - one tab must not stop the others
+                        traceback.print_exc()
+            except Exception:  # noqa: BLE001 - the room's thread must survive anything
+                traceback.print_exc()
 
     def close(self) -> None:
         self._queue.put(None)
