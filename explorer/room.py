@@ -173,7 +173,11 @@ class Room:
                 self.board.drop(member_id)
             self._lead_by(member.session)
             good = member.session.latest
-            solve = good is None or not good.converged  # nothing good yet: the teacher solves
+            # The teacher solves (warm) when nothing good is on screen, or when the check of
+            # the answer shown was cut off with the start-up session (closed above): the
+            # room would say "checking…" until the teacher's next move.
+            solve = (good is None or not good.converged
+                     or (shown is not None and not shown.checked))
             if not solve and shown is None:  # the teacher's own case becomes the room's
                 self.case = Case.of(member.session, self._request, self._checked)
                 self._catch_up(None)

@@ -194,6 +194,45 @@ def test_a_tab_that_leads_before_its_catch_up_arrives_draws_the_rooms_case(room)
         t.close()
 
 
+class SlowCheckMission(SumMission):
+    """SumMission whose re-propagation check waits for `gate`."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.gate = threading.Event()
+
+    def _solve(self, values, method, nodes, backend, warm, ctx: SolveContext) -> Solution:
+        sol = super()._solve(values, method, nodes, backend, warm, ctx)
+        check = sol.checker
+        sol.checker = lambda: self.gate.wait(10.0) and check()
+        return sol
+
+
+def test_a_teacher_who_claims_during_the_start_up_check_gets_a_checked_answer():
+    """The teacher's link opened while the start-up answer was being checked: the start-up
+    session is closed with its check, and the whole room said "checking…" until the
+    teacher's next move (seen in a screenshot of c152d8e). The teacher solves again."""
+    mission = SlowCheckMission()
+    start = Session(mission)
+    room = Room(start)
+    start.submit()
+    t = RoomSession(mission, auto=False, runner=Counting())
+    heard, checked = Heard(), []
+    heard.on_check = lambda request, solution: checked.append(solution)
+    t.listeners.append(heard)
+    try:
+        room.join(1, t)
+        until(lambda: heard.results, "the start-up answer, its check still running")
+        room.promote(1)
+        mission.gate.set()
+        until(lambda: checked, "a checked answer on the teacher's tab")
+        assert t.runner.started == 1 and room.case.checked
+    finally:
+        mission.gate.set()
+        t.close()
+        room.close()
+
+
 def test_the_teacher_puts_a_students_case_on_the_projector(room):
     mission, lead, room, student = room
     (a, heard_a), (_, heard_b) = student(1), student(2)
