@@ -182,7 +182,7 @@ class Room:
                 self.case = Case.of(member.session, self._request, self._checked)
                 self._catch_up(None)
         if shown is not None:  # its view draws the room's case (its relay may not have)
-            member.session.show_case(shown)
+            member.session.show_case(shown, self)
         if solve:
             member.session.submit()
         if old is not None:
@@ -311,12 +311,8 @@ class Room:
         case = self.case
         if case is None:
             return
-        self._queue.put((case, "on_config", (None,), members))
-        if case.latest is not None:
-            request = case.request or Request(0, case.mission, case.solve)
-            self._queue.put((case, "on_result", (request, case.latest), members))
-            if case.checked:
-                self._queue.put((case, "on_check", (request, case.latest), members))
+        for event, args in case.events():
+            self._queue.put((case, event, args, members))
 
     def _relay_loop(self) -> None:
         while True:

@@ -49,6 +49,17 @@ class Case:
         session.values, session.view = dict(s.values), dict(self.view)
         session.last_good, session.latest = self.last_good, self.latest
 
+    def events(self) -> list[tuple[str, tuple]]:
+        """The events that show this case as if it had just come: its configuration (whose
+        argument, the session, each receiver fills in), its answer and, once run, its check."""
+        shown: list[tuple[str, tuple]] = [("on_config", (None,))]
+        if self.latest is not None:
+            request = self.request or Request(0, self.mission, self.solve)
+            shown.append(("on_result", (request, self.latest)))
+            if self.checked:
+                shown.append(("on_check", (request, self.latest)))
+        return shown
+
 
 @dataclass(frozen=True)
 class Challenge:
@@ -112,16 +123,15 @@ class RoomSession(Session):
             if case is not None:
                 case.apply(self)
 
-    def show_case(self, case: Case) -> None:
-        """Hand `case`'s configuration and answer to this session's own listeners (a new
-        teacher's view draws what the room shows, whatever the relay had delivered)."""
+    def show_case(self, case: Case, room: object) -> None:
+        """Hand `case` to this session's own listeners but `room` (whose followers have it
+        already): a new teacher's view draws what the room shows, whatever the relay had
+        delivered."""
         with self._room_lock:
-            Session._emit(self, "on_config", self)
-            if case.latest is not None:
-                request = case.request or Request(0, case.mission, case.solve)
-                Session._emit(self, "on_result", request, case.latest)
-                if case.checked:
-                    Session._emit(self, "on_check", request, case.latest)
+            views = [listener for listener in self.listeners if listener is not room]
+            for event, args in case.events():
+                Session._deliver(views, event, (self,) if event in RELAYED_WITH_SESSION
+                                 else args)
 
     def branch(self) -> None:
         """Explore on one's own from the case on screen (nothing is solved until a move)."""

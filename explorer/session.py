@@ -106,7 +106,11 @@ class Session:
 
     def _emit(self, event: str, *args: object) -> None:
         """Call every listener; a failing view is logged and never stops the session."""
-        for listener in list(self.listeners):
+        Session._deliver(list(self.listeners), event, args)
+
+    @staticmethod
+    def _deliver(listeners: list[object], event: str, args: tuple) -> None:
+        for listener in listeners:
             handler = getattr(listener, event, None)
             if handler is None:
                 continue

@@ -167,7 +167,8 @@ def test_a_tab_that_leads_before_its_catch_up_arrives_draws_the_rooms_case(room)
     """The teacher's tab joins as a follower, is handed the room's case (configuration
     relayed, answer still on its way) and claims the room: it draws the room's answer. The
     CI run of 01565b3 had the relayed answer dropped once the tab led: the teacher's page
-    stayed on "the first solve is on its way" with an optimum in its session."""
+    stayed on "the first solve is on its way" with an optimum in its session. Drawing it
+    relays nothing to the followers, who have it."""
     mission, lead, room, student = room
     _, heard_a = student(1)
     until(lambda: heard_a.results, "the first picture")
@@ -182,10 +183,14 @@ def test_a_tab_that_leads_before_its_catch_up_arrives_draws_the_rooms_case(room)
         return relay(case, event, args)
 
     t.relay = held
+    relayed, hear = [], room._heard
+    room._heard = lambda event, args: (relayed.append(event), hear(event, args))
     try:
         room.join(2, t)
         until(lambda: heard.configs, "the room's case relayed to the new tab")
         room.promote(2)
+        # The new teacher's view was shown the case; the followers were not sent it again.
+        assert not {"on_config", "on_result", "on_check"} & set(relayed), relayed
         gate.set()
         until(lambda: heard.results, "the teacher's first picture")
         assert heard.results[-1] is room.case.latest and t.runner.started == 0
