@@ -2,7 +2,9 @@
 cost, estimated cost error (`Solution.cost.error_estimate`), true error against the
 mission's published or analytic optimum where it records one, status, and the times of the
 solve, of the whole deferred check and of the estimate within it, and of a warm re-solve
-from the answer (median of 3, unchecked: what a slider move waits for).
+after a 1 % step of the mission's live parameter (`bench_missions.LIVE_PARAMETER`),
+warm-started from the answer before it (median of 4 steps, up and back, unchecked: what a
+slider move waits for).
 
     python benchmarks/bench_cost_error.py [--missions KEY ...]
 
@@ -14,11 +16,16 @@ from __future__ import annotations
 import argparse
 import math
 import statistics
+import sys
 import time
+from pathlib import Path
 
 import solvers
 from solvers.mission import Mission
 from solvers.solution import Solution
+
+sys.path.insert(0, str(Path(__file__).parent))
+from bench_missions import LIVE_PARAMETER  # noqa: E402
 
 
 def optimum(mission: Mission, sol: Solution) -> float:
@@ -41,10 +48,12 @@ def row(mission: Mission, method: str) -> str:
     est = sol.cost.error_estimate
     est = math.nan if est is None else est
     true = abs(sol.cost.value - optimum(mission, sol))
-    warm = []
-    for _ in range(3):
+    key = LIVE_PARAMETER[mission.key]
+    base, warm, previous = mission.defaults(method)[key], [], sol
+    for factor in (1.01, 1.0, 0.99, 1.0):
         t = time.perf_counter()
-        mission.solve(method=method, warm=sol, verify=False)
+        previous = mission.solve({key: base * factor}, method=method, warm=previous,
+                                 verify=False)
         warm.append(time.perf_counter() - t)
     return (f"| {mission.key} | {method} | {sol.nodes} | {sol.cost.value:.9g} {sol.cost.unit} "
             f"| {est:.2e} | {est / abs(sol.cost.value):.1e} | {true:.2e} | {sol.status} | "

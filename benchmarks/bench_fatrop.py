@@ -28,20 +28,23 @@ from __future__ import annotations
 
 import argparse
 import statistics
+import sys
 import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
+from pathlib import Path
 
 import solvers
 from solvers.nlp.casadi_nlp import NLP
 
+sys.path.insert(0, str(Path(__file__).parent))
+from bench_missions import LIVE_PARAMETER  # noqa: E402
+
 CASES = ("lunar-landing:hermite-simpson", "lunar-landing:multiple-shooting",
          "hovercraft:multiple-shooting", "apollo-reentry:hermite-simpson")
 BACKENDS = ("ipopt", "fatrop")
-# The parameter a user is most likely to drag (as benchmarks/bench_missions.py), the two
-# warm steps from the default (factors) and two off-default values (factors) that the
-# mission's prechecks accept.
-LIVE_PARAMETER = {"lunar-landing": "thrust", "hovercraft": "accel", "apollo-reentry": "v0"}
+# The two warm steps of the live parameter (bench_missions.LIVE_PARAMETER) from the default
+# (factors) and two off-default values (factors) that the mission's prechecks accept.
 STEPS = {"lunar-landing": (1.01, 0.99), "hovercraft": (1.01, 0.99),
          "apollo-reentry": (1.01, 0.995)}
 OFF_DEFAULT = {"lunar-landing": (0.8, 1.25), "hovercraft": (0.9, 1.25),

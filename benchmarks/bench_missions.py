@@ -26,6 +26,7 @@ LIVE_PARAMETER = {
     "apollo-reentry": "v0",
     "asteroid-rendezvous": "thrust",
     "bang-bang": "accel",
+    "powered-descent": "altitude0",
 }
 
 
