@@ -277,7 +277,7 @@ def test_a_view_opens_each_mission_with_its_live_method_solved_optimal():
             assert mission.solve({}, method=expected).status == "optimal", mission.key
     live = {m.key: m.live_method for m in list_missions() if m.live_method}
     assert live == {"lunar-landing": "hermite-simpson", "apollo-reentry": "hermite-simpson",
-                    "hovercraft": "hermite-simpson"}
+                    "hovercraft": "hermite-simpson", "asteroid-rendezvous": "burn-coast"}
     session = Session(get_mission("cw-rendezvous"), auto=False)
     session.select_mission(get_mission("apollo-reentry"))
     assert session.method == "hermite-simpson"
