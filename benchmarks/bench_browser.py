@@ -44,7 +44,8 @@ CASES = (("lunar-landing", "hermite-simpson"), ("lunar-landing", "paper"),
          ("hovercraft", "hermite-simpson"), ("hovercraft", "multiple-shooting"),
          ("apollo-reentry", "hermite-simpson"), ("apollo-reentry", "multiple-shooting"),
          ("cw-rendezvous", "paper"), ("elliptic-transfer", "stm-law"),
-         ("bang-bang", "hermite-simpson"), ("asteroid-rendezvous", "hermite-simpson"))
+         ("bang-bang", "hermite-simpson"), ("asteroid-rendezvous", "burn-coast"),
+         ("asteroid-rendezvous", "hermite-simpson"))
 
 # The end of the first frame after a change of the page's text: the frame's callbacks run,
 # then its paint and commit (for a 3D canvas in software, the wait for its pixels); a task

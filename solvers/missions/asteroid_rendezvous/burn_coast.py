@@ -90,60 +90,31 @@ class BurnCoastNLP:
         x, u = ca.SX.sym("x", NX), ca.SX.sym("u", 3)
         r, v, m = x[0:3], x[3:6], x[6]
         gravity = -r / ca.norm_2(r) ** 3
-        burn = ca.Function("burn", [x, u, p],
-                           [ca.vertcat(v, gravity + p[P_ACC] * u / m, -p[P_FLOW])])
-        coast = ca.Function("coast", [x, p], [ca.vertcat(v, gravity, 0)])
-        parts: list[ca.SX] = []
+        self._burn = ca.Function("burn", [x, u, p],
+                                 [ca.vertcat(v, gravity + p[P_ACC] * u / m, -p[P_FLOW])])
+        self._coast = ca.Function("coast", [x, p], [ca.vertcat(v, gravity, 0)])
+        self._parts: list[ca.SX] = []
         self._lb: list[np.ndarray] = []
         self._ub: list[np.ndarray] = []
-
-        def variable(name: str, n: int, lb: np.ndarray | float, ub: np.ndarray | float
-                     ) -> tuple[ca.SX, int]:
-            start = sum(int(part.numel()) for part in parts)
-            parts.append(ca.SX.sym(name, n))
-            self._lb.append(np.broadcast_to(lb, (n,)).astype(float))
-            self._ub.append(np.broadcast_to(ub, (n,)).astype(float))
-            return parts[-1], start
-
-        t0, self.i_t0 = variable("t0", 1, -np.inf, np.inf)
-        s, self.i_s = variable("vinf", 3, -np.inf, np.inf)
-        tau, self.i_tau = variable("tau", len(layout.kinds), 0.0, 10.0)
+        self.n_x = 0
+        t0, self.i_t0 = self._variable("t0", 1, -np.inf, np.inf)
+        s, self.i_s = self._variable("vinf", 3, -np.inf, np.inf)
+        tau, self.i_tau = self._variable("tau", len(layout.kinds), 0.0, 10.0)
         eq: list[ca.SX] = []
         # Per phase and interval: the index of its start state, of its collocation states
         # and (burns) of its directions.
         self.i_x: list[list[int]] = []
         self.i_xc: list[list[list[int]]] = []
         self.i_u: list[list[list[int]]] = []
-        xk, ix = variable("x0", NX, X_LB, X_UB)
-        x_first = xk
+        x_first, ix = self._variable("x0", NX, X_LB, X_UB)
+        xk = x_first
         for k, (kind, n) in enumerate(zip(layout.kinds, layout.intervals, strict=True)):
-            h = tau[k] / n
             self.i_x.append([])
             self.i_xc.append([])
             self.i_u.append([])
             for i in range(n):
                 self.i_x[k].append(ix)
-                xs, us, ixc, iu = [], [], [], []
-                for j in range(DEGREE):
-                    xc, ic = variable(f"xc{k}_{i}_{j}", NX, X_LB, X_UB)
-                    xs.append(xc)
-                    ixc.append(ic)
-                    if kind == "burn":
-                        uc, ic = variable(f"u{k}_{i}_{j}", 3, -1.5, 1.5)
-                        us.append(uc)
-                        iu.append(ic)
-                        eq.append(ca.sumsqr(uc) - 1.0)
-                self.i_xc[k].append(ixc)
-                self.i_u[k].append(iu)
-                points = [xk, *xs]
-                for j in range(DEGREE):
-                    slope = sum((DERIVATIVE[r, j] * points[r] for r in range(DEGREE + 1)),
-                                ca.SX.zeros(NX))
-                    rate = burn(xs[j], us[j], p) if kind == "burn" else coast(xs[j], p)
-                    eq.append(h * rate - slope)
-                end = sum((END[r] * points[r] for r in range(DEGREE + 1)), ca.SX.zeros(NX))
-                xk, ix = variable(f"x{k}_{i + 1}", NX, X_LB, X_UB)
-                eq.append(end - xk)
+                xk, ix = self._interval(kind, f"{k}_{i}", tau[k] / n, xk, p, eq)
         self.i_xf = ix
         flight = ca.sum1(tau)
         earth = earth_spline()(t0)
@@ -152,9 +123,45 @@ class BurnCoastNLP:
         g_eq = ca.vertcat(*eq)
         self.n_eq = int(g_eq.numel())
         g = ca.vertcat(g_eq, ca.sumsqr(s) - p[P_C3], flight)
-        self.n_x = sum(int(part.numel()) for part in parts)
-        self.nlp = NLP(ca.vertcat(*parts), -xk[6], g, p, backend, name="asteroid_burn_coast",
-                       ipopt_options=IPOPT_OPTIONS)
+        self.nlp = NLP(ca.vertcat(*self._parts), -xk[6], g, p, backend,
+                       name="asteroid_burn_coast", ipopt_options=IPOPT_OPTIONS)
+
+    def _variable(self, name: str, n: int, lb: np.ndarray | float, ub: np.ndarray | float
+                  ) -> tuple[ca.SX, int]:
+        """A new block of n variables with its bounds, and its index in the NLP vector."""
+        start = self.n_x
+        self._parts.append(ca.SX.sym(name, n))
+        self._lb.append(np.broadcast_to(lb, (n,)).astype(float))
+        self._ub.append(np.broadcast_to(ub, (n,)).astype(float))
+        self.n_x += n
+        return self._parts[-1], start
+
+    def _interval(self, kind: str, name: str, h: ca.SX, xk: ca.SX, p: ca.SX,
+                  eq: list[ca.SX]) -> tuple[ca.SX, int]:
+        """One collocation interval from state `xk` (its collocation states, on a burn
+        its unit directions, its defects into `eq`); the next interval's start state."""
+        xs, us, ixc, iu = [], [], [], []
+        for j in range(DEGREE):
+            xc, ic = self._variable(f"xc{name}_{j}", NX, X_LB, X_UB)
+            xs.append(xc)
+            ixc.append(ic)
+            if kind == "burn":
+                uc, ic = self._variable(f"u{name}_{j}", 3, -1.5, 1.5)
+                us.append(uc)
+                iu.append(ic)
+                eq.append(ca.sumsqr(uc) - 1.0)
+        self.i_xc[-1].append(ixc)
+        self.i_u[-1].append(iu)
+        points = [xk, *xs]
+        for j in range(DEGREE):
+            slope = sum((DERIVATIVE[r, j] * points[r] for r in range(DEGREE + 1)),
+                        ca.SX.zeros(NX))
+            rate = self._burn(xs[j], us[j], p) if kind == "burn" else self._coast(xs[j], p)
+            eq.append(h * rate - slope)
+        end = sum((END[r] * points[r] for r in range(DEGREE + 1)), ca.SX.zeros(NX))
+        x_next, ix = self._variable(f"x{name}_end", NX, X_LB, X_UB)
+        eq.append(end - x_next)
+        return x_next, ix
 
     def bounds(self, p: np.ndarray) -> tuple[np.ndarray, ...]:
         """(lbx, ubx, lbg, ubg): the launch window, |v∞|² <= C3 and the flight-time range."""
@@ -223,18 +230,31 @@ class BurnCoastNLP:
         return out
 
 
+def _coefficients(basis: list[np.poly1d]) -> np.ndarray:
+    """The basis polynomials' coefficients as rows (highest power first)."""
+    n = len(basis)
+    return np.array([np.pad(poly.coeffs, (n - len(poly.coeffs), 0)) for poly in basis])
+
+
+STATE_COEFFICIENTS = _coefficients(STATE_BASIS)
+CONTROL_COEFFICIENTS = _coefficients(CONTROL_BASIS)
+
+
+def _basis_at(coefficients: np.ndarray, s: float | np.ndarray) -> np.ndarray:
+    """Every basis polynomial at fractions `s` of an interval: (len(s), basis size)."""
+    return np.vander(np.atleast_1d(s), coefficients.shape[1]) @ coefficients.T
+
+
 def direction(dirs: np.ndarray, s: float | np.ndarray) -> np.ndarray:
     """The unit thrust direction at fraction `s` of an interval (the collocation points'
     directions, Lagrange-interpolated and normalised)."""
-    s = np.atleast_1d(s)
-    u = sum(np.outer(CONTROL_BASIS[j](s), dirs[j]) for j in range(DEGREE))
+    u = _basis_at(CONTROL_COEFFICIENTS, s) @ dirs
     return u / np.linalg.norm(u, axis=1, keepdims=True)
 
 
 def state(states: np.ndarray, s: float | np.ndarray) -> np.ndarray:
     """The collocation polynomial's state at fractions `s` of an interval."""
-    s = np.atleast_1d(s)
-    return sum(np.outer(STATE_BASIS[j](s), states[j]) for j in range(DEGREE + 1))
+    return _basis_at(STATE_COEFFICIENTS, s) @ states
 
 
 @built_once(maxsize=8)
