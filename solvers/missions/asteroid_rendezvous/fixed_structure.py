@@ -16,12 +16,8 @@ import numpy as np
 
 from ...context import SolveContext
 from ...dynamics.ephemeris import (
-    ELEMENT_SETS,
-    GM_SUN,
     TU,
     VU,
-    asteroid_state,
-    earth_state,
     iso_from_mjd,
 )
 from ...nlp.casadi_nlp import NLPResult, status_of
@@ -30,8 +26,17 @@ from ...solution import Quantity, Solution, WarmStart
 from ...verify import repropagate
 from .burn_coast import BurnCoastNLP, Layout, built, direction, state
 from .guess import impulsive_guess, same_guess
-from .methods import LOW_THRUST, date_quantities, guess_quantities, solve_low_thrust
-from .model import G0, SI_UNITS, si_rhs, to_mjd, to_si
+from .methods import (
+    ATOL,
+    LOW_THRUST,
+    arrival_misses,
+    departure_state,
+    guess_quantities,
+    rhs_parameters,
+    solve_low_thrust,
+    transfer_quantities,
+)
+from .model import SI_UNITS, si_rhs, to_mjd, to_si
 from .problem import PAPER, parameter_vector
 
 if TYPE_CHECKING:
@@ -153,24 +158,18 @@ def record(values: dict[str, float], nlp: BurnCoastNLP, res: NLPResult, nodes: i
     burns = sum(1 for *_, kind in arcs if kind == "burn")
     sol = Solution(
         mission="asteroid-rendezvous", method=BURN_COAST.key, nodes=nodes, backend=backend,
-        status=status, message=message, cost=Quantity(fuel, "fuel", "kg"), values=values,
+        status=status, message=(f"{message}; {'–'.join(nlp.layout.kinds)}, launch "
+                                f"{iso_from_mjd(launch)}, arrival {iso_from_mjd(arrival)}"),
+        cost=Quantity(fuel, "fuel", "kg"), values=values,
         state_names=("x", "y", "z", "vx", "vy", "vz", "m"), state_units=SI_UNITS,
         control_names=("Fx", "Fy", "Fz"), control_units=("N",) * 3,
         node_t=node_t * TU, node_x=to_si(node_x, m0), node_u=node_dirs * fmax, arcs=arcs,
         t=t * TU, x=to_si(x, m0), u=u * fmax, control_interpolation="dense",
     )
-    sol.quantities = date_quantities(launch, arrival)
-    sol.quantities.update(
-        fuel=Quantity(fuel, "fuel", "kg"),
-        final_mass=Quantity(m0 - fuel, "final mass", "kg"),
-        burn_arcs=Quantity(float(burns), "burn arcs", ""),
-        launch_c3=Quantity(float(vinf @ vinf) * VU**2 / 1e6, "launch C3", "km²/s²"),
-    )
+    sol.quantities = transfer_quantities(launch, arrival, fuel, m0 - fuel, burns, vinf * VU)
     guess_quantities(sol, impulsive_guess(values, ctx))
     sol.stats.update(iterations=float(res.iterations), nlp_variables=float(nlp.n_x),
                      constraint_violation=res.max_violation)
-    sol.message = (f"{message}; {'–'.join(nlp.layout.kinds)}, launch {iso_from_mjd(launch)}, "
-                   f"arrival {iso_from_mjd(arrival)}")
     sol.warm = WarmStart(WARM_KIND, nodes, node_t / flight, node_x, node_dirs, flight,
                          z=res.x, lam_x=res.lam_x, lam_g=res.lam_g, t0=t0, statics=vinf,
                          data={"kinds": nlp.layout.kinds, "intervals": nlp.layout.intervals,
@@ -186,10 +185,9 @@ def check(values: dict[str, float], pieces: list, t0: float, vinf: np.ndarray,
     v∞, interval by interval with that interval's own control (full thrust along its
     interpolated direction, or none: exact at the switches), and measure the miss against
     the asteroid's Kepler state at arrival."""
-    m0, fmax, c = values["mass0"], values["thrust"], values["isp"] * G0
-    r0, v0 = earth_state(float(to_mjd(t0)))
-    x = np.concatenate([r0, v0 + vinf * VU, [m0]])
-    f, p = si_rhs(), np.array([GM_SUN, c])
+    fmax = values["thrust"]
+    x = departure_state(values, t0, vinf)
+    f, p = si_rhs(), rhs_parameters(values)
     for a, h, _, dirs in pieces:
         if h <= 0.0:
             continue
@@ -200,12 +198,6 @@ def check(values: dict[str, float], pieces: list, t0: float, vinf: np.ndarray,
                 return np.zeros(4)
             return np.append(fmax * direction(dirs, (t / TU - a) / h)[0], fmax)
 
-        _, X = repropagate(f, p, x, control, np.array([a, a + h]) * TU,
-                           atol=np.array([1.0] * 3 + [1e-6] * 3 + [1e-9]))
+        _, X = repropagate(f, p, x, control, np.array([a, a + h]) * TU, atol=ATOL)
         x = X[-1]
-    ra, va = asteroid_state(float(to_mjd(t0 + flight)), ELEMENT_SETS[int(values["elements"])])
-    return {
-        "arrival_position_miss_m": float(np.linalg.norm(x[0:3] - ra)),
-        "arrival_velocity_miss_m_s": float(np.linalg.norm(x[3:6] - va)),
-        "final_mass_difference_kg": float(x[6] - final_mass),
-    }
+    return arrival_misses(values, t0 + flight, x, final_mass)

@@ -46,6 +46,7 @@ if TYPE_CHECKING:
     from ...mission import Mission
 
 BURN_FRACTION = 0.05  # a node/sample burns when |U| > 5 % of Fmax
+ATOL = np.array([1.0] * 3 + [1e-6] * 3 + [1e-9])  # re-propagation: m, m/s, kg
 # Samples of the drawn path and plots, whatever the segment count: 8 per segment at 150, and
 # 400 segments drawn 8 per segment tripled the page's bytes per update (121 -> 358 kB).
 DENSE_SAMPLES = 1200
@@ -150,16 +151,11 @@ def record_low_thrust(sol: Solution, res: OCPResult) -> None:
     vinf = np.asarray(res.statics) * VU
     launch, arrival = float(to_mjd(res.t0)), float(to_mjd(res.t0 + res.T))
     sol.cost = Quantity(fuel, "fuel", "kg")
-    sol.quantities = date_quantities(launch, arrival)
-    sol.quantities.update(
-        fuel=Quantity(fuel, "fuel", "kg"),
-        final_mass=Quantity(float(sol.node_x[-1, 6]), "final mass", "kg"),
-        burn_arcs=Quantity(float(burns), "burn arcs", ""),
-        bang_bang_fraction=Quantity(float(np.mean((throttle < BURN_FRACTION)
-                                                  | (throttle > 1 - BURN_FRACTION))),
-                                    "nodes at zero or full thrust", ""),
-        launch_c3=Quantity(float(vinf @ vinf) / 1e6, "launch C3", "km²/s²"),
-    )
+    sol.quantities = transfer_quantities(launch, arrival, fuel, float(sol.node_x[-1, 6]),
+                                         burns, vinf)
+    sol.quantities["bang_bang_fraction"] = Quantity(
+        float(np.mean((throttle < BURN_FRACTION) | (throttle > 1 - BURN_FRACTION))),
+        "nodes at zero or full thrust", "")
     _si_costates(sol, m0, float(sol.values["thrust"] / m0 / ACC), res)
     slack = res.U[:, 3] - np.linalg.norm(res.U[:, 0:3], axis=1)
     sol.stats["max_mass_flow_slack_N"] = float(np.max(slack) * fmax)
@@ -204,24 +200,39 @@ def check_low_thrust(values: Mapping[str, float], res: OCPResult) -> dict[str, f
     """Re-propagate the optimal control (DOP853, rtol 1e-10) in SI from Earth's epv00 state
     (not the NLP's spline) plus the v∞, and measure the miss against the asteroid's Kepler
     state at arrival."""
-    m0, fmax, c = values["mass0"], values["thrust"], values["isp"] * G0
-    launch = float(to_mjd(res.t0))
-    r0, v0 = earth_state(launch)
-    x0 = np.concatenate([r0, v0 + np.asarray(res.statics) * VU, [m0]])
     t_nodes = res.t_nodes * TU
-    controls = res.U * fmax
+    controls = res.U * values["thrust"]
 
     def control(t: float, x: np.ndarray) -> np.ndarray:
         return np.array([np.interp(t, t_nodes, col) for col in controls.T])
 
-    _, X = repropagate(si_rhs(), np.array([GM_SUN, c]), x0, control, t_nodes,
-                       atol=np.array([1.0] * 3 + [1e-6] * 3 + [1e-9]))
-    ra, va = asteroid_state(float(to_mjd(res.t0 + res.T)),
-                            ELEMENT_SETS[int(values["elements"])])
+    _, X = repropagate(si_rhs(), rhs_parameters(values),
+                       departure_state(values, res.t0, np.asarray(res.statics)), control,
+                       t_nodes, atol=ATOL)
+    return arrival_misses(values, res.t0 + res.T, X[-1], res.X[-1, 6] * values["mass0"])
+
+
+def departure_state(values: Mapping[str, float], t0: float, vinf: np.ndarray) -> np.ndarray:
+    """The SI state at launch (canonical date `t0`): Earth's epv00 state (not the NLP's
+    spline) plus the v∞ (canonical), and the initial mass."""
+    r0, v0 = earth_state(float(to_mjd(t0)))
+    return np.concatenate([r0, v0 + vinf * VU, [values["mass0"]]])
+
+
+def rhs_parameters(values: Mapping[str, float]) -> np.ndarray:
+    """The parameters of `si_rhs`: GM of the Sun and the exhaust speed."""
+    return np.array([GM_SUN, values["isp"] * G0])
+
+
+def arrival_misses(values: Mapping[str, float], arrival: float, x: np.ndarray,
+                   final_mass: float) -> dict[str, float]:
+    """A re-propagated arrival state `x` (SI) against the asteroid's Kepler state at the
+    canonical date `arrival`, and its mass against the NLP's `final_mass` (kg)."""
+    ra, va = asteroid_state(float(to_mjd(arrival)), ELEMENT_SETS[int(values["elements"])])
     return {
-        "arrival_position_miss_m": float(np.linalg.norm(X[-1, 0:3] - ra)),
-        "arrival_velocity_miss_m_s": float(np.linalg.norm(X[-1, 3:6] - va)),
-        "final_mass_difference_kg": float(X[-1, 6] - res.X[-1, 6] * m0),
+        "arrival_position_miss_m": float(np.linalg.norm(x[0:3] - ra)),
+        "arrival_velocity_miss_m_s": float(np.linalg.norm(x[3:6] - va)),
+        "final_mass_difference_kg": float(x[6] - final_mass),
     }
 
 
@@ -288,6 +299,19 @@ def check_impulsive(transfer: ImpulsiveTransfer, elements: ElementSet) -> dict[s
 
 
 # ---- shared ----------------------------------------------------------------------------------
+def transfer_quantities(launch_mjd: float, arrival_mjd: float, fuel: float, final_mass: float,
+                        burns: int, vinf: np.ndarray) -> dict[str, Quantity]:
+    """The dates, fuel, final mass, burn arcs and launch C3 (v∞ in m/s) of a low-thrust
+    answer."""
+    return {
+        **date_quantities(launch_mjd, arrival_mjd),
+        "fuel": Quantity(fuel, "fuel", "kg"),
+        "final_mass": Quantity(final_mass, "final mass", "kg"),
+        "burn_arcs": Quantity(float(burns), "burn arcs", ""),
+        "launch_c3": Quantity(float(vinf @ vinf) / 1e6, "launch C3", "km²/s²"),
+    }
+
+
 def date_quantities(launch_mjd: float, arrival_mjd: float) -> dict[str, Quantity]:
     """Launch and arrival (days since 2022-01-01, the ISO date in the label), flight time."""
     return {
